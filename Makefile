@@ -1,0 +1,28 @@
+# Two entry points: `make test` and `make figures`. Both create .venv when it is missing.
+PYTHON ?= python3
+VENV   := .venv
+PY     := $(VENV)/bin/python
+STAMP  := $(VENV)/.installed
+
+.PHONY: test figures examples bench clean
+
+$(STAMP): pyproject.toml
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -e ".[dev]"
+	touch $(STAMP)
+
+test: $(STAMP)
+	$(PY) -m pytest -n 2 -q
+
+examples: $(STAMP)
+	@for f in examples/*.py; do echo "== $$f"; MPLBACKEND=Agg $(PY) $$f || exit 1; done
+
+figures: examples
+	MPLBACKEND=Agg $(PY) -m setsmooth.cli figures
+
+bench: $(STAMP)
+	$(PY) benchmarks/bench_support.py
+
+clean:
+	rm -rf $(VENV) paper_figures/out examples/out .pytest_cache .hypothesis

@@ -1,0 +1,88 @@
+"""Argument checks made once, at the public door (internal ``_op`` variants trust their inputs)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+
+def as_vector(value: Any, name: str, dim: int | None = None, allow_inf: bool = False) -> np.ndarray:
+    """Return ``value`` as a 1-D float array, or raise naming ``name`` and the expected shape."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be array-like of numbers, got {type(value).__name__}") from exc
+    if arr.ndim == 0:
+        arr = arr.reshape(1)
+    if arr.ndim == 2 and 1 in arr.shape:
+        arr = arr.reshape(-1)
+    if arr.ndim != 1:
+        raise ValueError(f"{name} must be a vector, got an array of shape {arr.shape}")
+    if dim is not None and arr.shape[0] != dim:
+        raise ValueError(f"{name} must have length {dim}, got length {arr.shape[0]}")
+    if np.isnan(arr).any():
+        raise ValueError(f"{name} contains NaN")
+    if not allow_inf and np.isinf(arr).any():
+        raise ValueError(f"{name} contains inf; expected finite values")
+    return arr
+
+
+def as_matrix(value: Any, name: str, rows: int | None = None, cols: int | None = None,
+              allow_sparse: bool = False) -> np.ndarray | sp.csc_matrix:
+    """Return ``value`` as a finite 2-D float array (or CSC matrix when ``allow_sparse``)."""
+    if sp.issparse(value):
+        if not allow_sparse:
+            value = value.toarray()
+        else:
+            mat = sp.csc_matrix(value, dtype=float)
+            _check_shape(mat.shape, name, rows, cols)
+            if not np.isfinite(mat.data).all():
+                raise ValueError(f"{name} contains NaN or inf; expected finite entries")
+            return mat
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a 2-D array of numbers, got {type(value).__name__}") from exc
+    if arr.ndim == 0:
+        arr = arr.reshape(1, 1)
+    elif arr.ndim == 1:
+        # A vector is a single column when the row count is pinned, else a single row.
+        arr = arr.reshape(-1, 1) if (rows is not None and arr.shape[0] == rows and cols in (None, 1)) \
+            else arr.reshape(1, -1)
+    if arr.ndim != 2:
+        raise ValueError(f"{name} must be a 2-D matrix, got an array of shape {arr.shape}")
+    _check_shape(arr.shape, name, rows, cols)
+    if not np.isfinite(arr).all():
+        raise ValueError(f"{name} contains NaN or inf; expected finite entries")
+    return arr
+
+
+def _check_shape(shape: tuple[int, int], name: str, rows: int | None, cols: int | None) -> None:
+    want_rows = "any" if rows is None else rows
+    want_cols = "any" if cols is None else cols
+    if (rows is not None and shape[0] != rows) or (cols is not None and shape[1] != cols):
+        raise ValueError(f"{name} must have shape ({want_rows}, {want_cols}), got {tuple(shape)}")
+
+
+def as_directions(value: Any, dim: int, name: str = "D") -> np.ndarray:
+    """Return directions as a ``(k, dim)`` array; a single vector becomes one row."""
+    arr = np.asarray(value, dtype=float)
+    if arr.ndim == 1:
+        arr = arr.reshape(1, -1)
+    if arr.ndim != 2 or arr.shape[1] != dim:
+        raise ValueError(f"{name} must have shape (k, {dim}) (one direction per row), "
+                         f"got {np.shape(value)}")
+    if not np.isfinite(arr).all():
+        raise ValueError(f"{name} contains NaN or inf; expected finite directions")
+    return arr
+
+
+def check_dim(value: Any, name: str) -> int:
+    """Return a validated positive integer dimension."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be a positive integer, got {value!r}")
+    if value < 1:
+        raise ValueError(f"{name} must be a positive integer, got {value}")
+    return int(value)

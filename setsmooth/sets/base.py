@@ -1,0 +1,355 @@
+"""`ConvexSet`: a set is anything that can state "x is in me" as CVXPY constraints.
+
+Every query is derived here once, through the generic CVXPY path of `setsmooth.solvers`. A
+representation overrides the private hooks (``_support``, ``_is_empty``, ``_contains``,
+``_as_constrained_zonotope`` ...) where it knows a closed form or a faster program; the public methods
+validate arguments once and dispatch.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from functools import cached_property
+from typing import TYPE_CHECKING, Any, Sequence
+
+import cvxpy as cp
+import numpy as np
+
+from .. import tolerances as tol
+from .._validation import as_directions, as_matrix, as_vector
+from ..solvers import GenericProgram
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .box import Box
+    from .constrained_zonotope import ConstrainedZonotope
+
+_METHODS = ("auto", "generic")
+
+
+class ConvexSet(ABC):
+    """A closed convex subset of ℝⁿ described by CVXPY constraints.
+
+    Subclasses implement `constraints` and set ``dim``; every other query has a default here.
+    Sets are immutable: operations return new sets and cache solver data on themselves.
+
+    Attributes
+    ----------
+    dim : int
+        Dimension n of the ambient space.
+    """
+
+    dim: int
+
+    #: Makes ``ndarray @ S`` and ``ndarray + S`` defer to the set's reflected operators.
+    __array_ufunc__ = None
+
+    # -- the one required method ---------------------------------------------------------------------
+    @abstractmethod
+    def constraints(self, x: cp.Expression) -> list[cp.Constraint]:
+        """CVXPY constraints stating ``x ∈ self`` for an affine expression ``x`` of shape (dim,)."""
+
+    # -- support functions ---------------------------------------------------------------------------
+    def support(self, d: Any, *, method: str = "auto", certified: bool = False) -> float:
+        """Support function h_S(d) = sup_{x∈S} dᵀx.
+
+        Parameters
+        ----------
+        d : array_like, shape (dim,)
+            Direction.
+        method : {'auto', 'generic'}
+            'auto' uses the representation's closed form or fast path; 'generic' forces the CVXPY path.
+        certified : bool
+            Return a value proven to be ≥ the exact support (weak duality), whatever the solver's
+            accuracy. Available for sets that flatten to a constrained zonotope.
+
+        Returns
+        -------
+        float
+            ``+inf`` along unbounded directions, ``-inf`` for an empty set.
+        """
+        d = as_vector(d, "d", self.dim)
+        return float(self.support_many(d[None, :], method=method, certified=certified)[0])
+
+    def support_many(self, D: Any, *, method: str = "auto", certified: bool = False) -> np.ndarray:
+        """Support values for every row of ``D`` (shape (k, dim)); see `support`."""
+        D = as_directions(D, self.dim)
+        return self._support_points(D, self._check_method(method), certified)[0]
+
+    def support_point(self, d: Any, *, method: str = "auto") -> np.ndarray:
+        """A maximizer of dᵀx over the set (NaN entries when the support is infinite)."""
+        d = as_vector(d, "d", self.dim)
+        return self._support_points(d[None, :], self._check_method(method), False)[1][0]
+
+    def _support_points(self, D: np.ndarray, method: str, certified: bool):
+        """Values and points, trusted arguments. Dispatches to the fast hook unless told otherwise."""
+        if method == "generic":
+            if certified:
+                raise ValueError("certified=True needs the constrained-zonotope fast path; "
+                                 "method='generic' cannot certify its values")
+            return self._generic.support(D)
+        return self._support(D, certified)
+
+    def _support(self, D: np.ndarray, certified: bool):
+        """Hook: (values, points). Default: the CZ fast path when the set flattens to a CZ."""
+        cz = self._flat_cz
+        if cz is not None:
+            return cz._support(D, certified)
+        if certified:
+            raise ValueError(f"certified support values are not available for {type(self).__name__}:"
+                             " it does not flatten to a constrained zonotope")
+        return self._generic.support(D)
+
+    @cached_property
+    def _generic(self) -> GenericProgram:
+        return GenericProgram(self)
+
+    @cached_property
+    def _flat_cz(self) -> "ConstrainedZonotope | None":
+        return self._as_constrained_zonotope()
+
+    def _as_constrained_zonotope(self) -> "ConstrainedZonotope | None":
+        """Hook: an exact CZ representation of this set, or None when there is none."""
+        return None
+
+    def to_constrained_zonotope(self) -> "ConstrainedZonotope":
+        """The exact constrained-zonotope form of this set.
+
+        Raises
+        ------
+        TypeError
+            When the set has no exact CZ form (ellipsoids, H-polytopes, lazy sets of those).
+        """
+        cz = self._flat_cz
+        if cz is None:
+            raise TypeError(f"{type(self).__name__} has no exact constrained-zonotope form")
+        return cz
+
+    # -- emptiness and membership --------------------------------------------------------------------
+    def is_empty(self, *, method: str = "auto") -> bool:
+        """Whether the set has no point (a feasibility program)."""
+        if self._check_method(method) == "generic":
+            return self._generic.is_empty()
+        return self._is_empty()
+
+    def _is_empty(self) -> bool:
+        cz = self._flat_cz
+        return cz._is_empty() if cz is not None else self._generic.is_empty()
+
+    def contains(self, point: Any, tol: float | None = None, *, method: str = "auto") -> bool:
+        """Whether ``point`` lies in the set, up to an ∞-norm margin.
+
+        Parameters
+        ----------
+        point : array_like, shape (dim,)
+        tol : float, optional
+            Absolute ∞-norm margin; defaults to ``MEMBERSHIP_TOL`` scaled by the point's magnitude.
+        """
+        p = as_vector(point, "point", self.dim)
+        margin = self._margin(p, tol)
+        if self._check_method(method) == "generic":
+            return self._generic.contains(p, margin)
+        return self._contains(p, margin)
+
+    def _contains(self, p: np.ndarray, margin: float) -> bool:
+        cz = self._flat_cz
+        return cz._contains(p, margin) if cz is not None else self._generic.contains(p, margin)
+
+    @staticmethod
+    def _margin(p: np.ndarray, given: float | None) -> float:
+        if given is None:
+            return tol.scaled(tol.MEMBERSHIP_TOL, np.abs(p).max(initial=0.0))
+        if not np.isfinite(given) or given < 0:
+            raise ValueError(f"tol must be a finite non-negative number, got {given}")
+        return float(given)
+
+    # -- derived geometry ----------------------------------------------------------------------------
+    def interval_hull(self, *, method: str = "auto", certified: bool = False) -> "Box | ConvexSet":
+        """The tightest box containing the set (2·dim support values, one stacked program).
+
+        Returns
+        -------
+        Box
+            With possibly infinite ``lo``/``hi``; an `EmptySet` when the set is empty.
+        """
+        from .box import Box
+        from .empty import EmptySet
+
+        eye = np.eye(self.dim)
+        values = self.support_many(np.vstack([eye, -eye]), method=method, certified=certified)
+        hi, lo = values[: self.dim], -values[self.dim:]
+        if np.isneginf(hi).any():
+            return EmptySet(self.dim)
+        return Box._trusted(lo, np.maximum(hi, lo))
+
+    def diameter(self, *, method: str = "auto", certified: bool = False) -> float:
+        """∞-norm diameter sup_{s,s'∈S} ‖s − s'‖∞: the widest edge of the interval hull.
+
+        Returns ``-inf`` for the empty set (the supremum over no pairs) and ``inf`` when unbounded.
+        """
+        hull = self.interval_hull(method=method, certified=certified)
+        if hull.is_empty():
+            return -np.inf
+        return float(np.max(hull.hi - hull.lo))
+
+    def center(self, method: str = "interval_hull", reference: Any = None,
+               norm: float | str = 2) -> np.ndarray:
+        """A point estimate of the set.
+
+        Parameters
+        ----------
+        method : {'interval_hull', 'chebyshev', 'closest'}
+            'interval_hull': centre of the interval hull, which is also the ∞-norm Chebyshev centre
+            (the point minimizing the worst-case ∞-norm error over the set).
+            'chebyshev': centre of the largest inscribed Euclidean ball (sets with an H-representation
+            and ellipsoids).
+            'closest': the member closest to ``reference`` in the given ``norm``.
+        reference : array_like, shape (dim,), optional
+            Needed by 'closest'.
+
+        Returns
+        -------
+        ndarray, shape (dim,)
+            NaN entries when the set is empty.
+        """
+        if method == "interval_hull":
+            hull = self.interval_hull()
+            if hull.is_empty():
+                return np.full(self.dim, np.nan)
+            return hull.midpoint()
+        if method == "chebyshev":
+            return self._chebyshev_center()
+        if method == "closest":
+            if reference is None:
+                raise ValueError("center(method='closest') needs a reference point")
+            ref = as_vector(reference, "reference", self.dim)
+            point = self._generic.closest_point(ref, norm)
+            return np.full(self.dim, np.nan) if point is None else point
+        raise ValueError(f"method must be 'interval_hull', 'chebyshev' or 'closest', got {method!r}")
+
+    def _chebyshev_center(self) -> np.ndarray:
+        raise NotImplementedError(
+            f"the inscribed-ball Chebyshev centre needs an H-representation; {type(self).__name__} "
+            "has none (use center('interval_hull'), the ∞-norm Chebyshev centre)")
+
+    def vertices_2d(self) -> np.ndarray:
+        """Vertices of a bounded 2-D set in counter-clockwise order (see `setsmooth.sets.polygon`)."""
+        from .polygon import vertices_2d
+
+        return vertices_2d(self)
+
+    def area(self) -> float:
+        """Area of a bounded 2-D set (shoelace formula on `vertices_2d`)."""
+        from .polygon import polygon_area
+
+        return polygon_area(self.vertices_2d())
+
+    def plot(self, ax=None, dims: Sequence[int] = (0, 1), **kwargs):
+        """Draw the 2-D projection onto ``dims`` as a matplotlib patch and return the patch."""
+        from .polygon import plot_set
+
+        return plot_set(self, ax=ax, dims=dims, **kwargs)
+
+    def sample(self, rng: np.random.Generator, size: int = 1) -> np.ndarray:
+        """Points drawn uniformly from a bounded set, shape (size, dim).
+
+        The default is rejection sampling from the interval hull with one membership program per
+        proposal; representations with a direct sampler override it.
+        """
+        from .sampling import rejection_sample
+
+        return rejection_sample(self, rng, size)
+
+    # -- algebra (see setsmooth.sets.algebra for the widening rules) ---------------------------------
+    def __matmul__(self, other):
+        return NotImplemented
+
+    def __rmatmul__(self, M):
+        from .algebra import linear_map
+
+        return linear_map(as_matrix(M, "M", cols=self.dim, allow_sparse=True), self)
+
+    def __add__(self, other):
+        from .algebra import minkowski_sum, translate
+
+        if isinstance(other, ConvexSet):
+            _same_dim(self, other, "Minkowski sum")
+            return minkowski_sum(self, other)
+        return translate(self, as_vector(other, "translation vector", self.dim))
+
+    __radd__ = __add__
+
+    def __sub__(self, other):
+        if isinstance(other, ConvexSet):
+            return self + (-np.eye(other.dim)) @ other
+        return self + (-as_vector(other, "translation vector", self.dim))
+
+    def __neg__(self):
+        return (-np.eye(self.dim)) @ self
+
+    def __and__(self, other):
+        from .algebra import intersection
+
+        if not isinstance(other, ConvexSet):
+            return NotImplemented
+        _same_dim(self, other, "intersection")
+        return intersection(self, other)
+
+    def __mul__(self, other):
+        from .algebra import cartesian_product
+
+        if not isinstance(other, ConvexSet):
+            return NotImplemented
+        return cartesian_product(self, other)
+
+    def intersect_preimage(self, R: Any, Y: "ConvexSet") -> "ConvexSet":
+        """Generalized intersection {s ∈ S : R s ∈ Y} (smoothing paper (37)).
+
+        Parameters
+        ----------
+        R : array_like, shape (Y.dim, self.dim)
+        Y : ConvexSet
+        """
+        from .algebra import generalized_intersection
+
+        if not isinstance(Y, ConvexSet):
+            raise TypeError(f"Y must be a ConvexSet, got {type(Y).__name__}")
+        R = as_matrix(R, "R", rows=Y.dim, cols=self.dim, allow_sparse=True)
+        return generalized_intersection(self, R, Y)
+
+    def preimage(self, M: Any) -> "ConvexSet":
+        """{x : M x ∈ S} for ``M`` of shape (dim, n); M may be singular or non-square."""
+        from .reals import Reals
+
+        M = as_matrix(M, "M", rows=self.dim, allow_sparse=True)
+        return Reals(M.shape[1]).intersect_preimage(M, self)
+
+    def project(self, dims: Sequence[int]) -> "ConvexSet":
+        """Coordinate projection onto ``dims`` (in the given order)."""
+        idx = _as_dims(dims, self.dim)
+        return self._project(idx)
+
+    def _project(self, idx: np.ndarray) -> "ConvexSet":
+        return np.eye(self.dim)[idx] @ self
+
+    def _check_method(self, method: str) -> str:
+        if method not in _METHODS:
+            raise ValueError(f"method must be one of {_METHODS}, got {method!r}")
+        return method
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(dim={self.dim})"
+
+
+def _same_dim(a: ConvexSet, b: ConvexSet, what: str) -> None:
+    if a.dim != b.dim:
+        raise ValueError(f"{what} needs operands of equal dimension, got {a.dim} and {b.dim}")
+
+
+def _as_dims(dims: Sequence[int], n: int) -> np.ndarray:
+    try:
+        idx = np.asarray(dims, dtype=int).reshape(-1)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"dims must be a sequence of integers, got {dims!r}") from exc
+    if idx.size == 0 or (idx < 0).any() or (idx >= n).any():
+        raise ValueError(f"dims must be non-empty indices in [0, {n}), got {list(idx)}")
+    return idx

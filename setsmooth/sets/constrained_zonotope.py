@@ -1,0 +1,206 @@
+"""Extended constrained zonotopes Z(G, c, A, b, h) with factor bounds h ∈ [0, ∞].
+
+    Z(G, c, A, b, h) = { Gξ + c : Aξ = b, ξ_j ∈ [−h_j, h_j] }
+
+(stability paper Definition 7, smoothing paper Definition 2). An infinite bound makes a factor free, so
+ℝⁿ, strips, subspaces and half-spaces through the intersection with a CZ all stay CZs, and the filters'
+prediction (stability (20)) and update (stability (21)) and the smoother's step (smoothing (24)) are
+exact, closed-form operations on the five matrices.
+
+Closed forms here: linear map (smoothing (35)), translation, Minkowski sum (smoothing (36)),
+generalized intersection (smoothing (37)), Cartesian product, projection; the support function in
+closed form when there are no constraints (nc = 0); otherwise the sparse LP of `solvers.CZProgram`.
+``G`` and ``A`` may be scipy sparse matrices; operations keep them sparse.
+"""
+
+from __future__ import annotations
+
+from functools import cached_property
+from typing import Any
+
+import cvxpy as cp
+import numpy as np
+import scipy.sparse as sp
+
+from .._validation import as_matrix, as_vector
+from ..solvers import CZProgram, FactorConstraints
+from . import _matrices as mx
+from .base import ConvexSet
+
+
+class ConstrainedZonotope(ConvexSet):
+    """Extended constrained zonotope Z(G, c, A, b, h).
+
+    Parameters
+    ----------
+    G : array_like or sparse matrix, shape (n, ng)
+        Generator matrix.
+    c : array_like, shape (n,)
+        Centre.
+    A : array_like or sparse matrix, shape (nc, ng), optional
+        Constraint matrix (none by default).
+    b : array_like, shape (nc,), optional
+        Constraint right-hand side.
+    h : array_like, shape (ng,), optional
+        Factor bounds in [0, inf]; all ones by default (the classical CZ).
+
+    Raises
+    ------
+    ValueError
+        On shape mismatches, NaN or inf entries in G, c, A, b, or negative/NaN bounds h.
+
+    Examples
+    --------
+    >>> import numpy as np, setsmooth as ss
+    >>> Z = ss.ConstrainedZonotope(np.eye(2), np.zeros(2), A=[[1.0, 1.0]], b=[1.0])
+    >>> round(Z.support([1.0, 1.0]), 6)
+    1.0
+    """
+
+    def __init__(self, G: Any, c: Any, A: Any = None, b: Any = None, h: Any = None):
+        G = as_matrix(G, "G", allow_sparse=True)
+        n, ng = G.shape
+        c = as_vector(c, "c", n)
+        if A is None and b is None:
+            A, b = np.zeros((0, ng)), np.zeros(0)
+        elif A is None or b is None:
+            raise ValueError("A and b must be given together")
+        else:
+            A = as_matrix(A, "A", cols=ng, allow_sparse=True)
+            b = as_vector(b, "b", A.shape[0]) if A.shape[0] else np.zeros(0)
+        if h is None:
+            h = np.ones(ng)
+        else:
+            h = np.asarray(h, dtype=float).reshape(-1) if np.ndim(h) else np.full(ng, float(h))
+            if h.shape != (ng,):
+                raise ValueError(f"h must have length ng = {ng}, got shape {h.shape}")
+            if np.isnan(h).any() or (h < 0).any():
+                raise ValueError("h must lie in [0, inf] (no NaN, no negative bounds)")
+        self._init(G, c, A, b, h, None)
+
+    def _init(self, G, c, A, b, h, factors: FactorConstraints | None) -> None:
+        self.G = G if sp.issparse(G) else mx.readonly(G)
+        self.c = mx.readonly(c)
+        self.A = A if sp.issparse(A) else mx.readonly(A)
+        self.b = mx.readonly(b)
+        self.h = mx.readonly(h)
+        self.dim = self.G.shape[0]
+        self._factors = factors
+
+    @classmethod
+    def _trusted(cls, G, c, A, b, h, factors: FactorConstraints | None = None) -> "ConstrainedZonotope":
+        """Build without validation (internal: operands already validated)."""
+        obj = cls.__new__(ConstrainedZonotope)
+        obj._init(G, c, A, b, h, factors)
+        return obj
+
+    # -- sizes -----------------------------------------------------------------------------------------
+    @property
+    def ng(self) -> int:
+        """Number of generators (factors)."""
+        return self.G.shape[1]
+
+    @property
+    def nc(self) -> int:
+        """Number of equality constraints."""
+        return self.A.shape[0]
+
+    def __repr__(self) -> str:
+        return f"ConstrainedZonotope(dim={self.dim}, ng={self.ng}, nc={self.nc})"
+
+    # -- CVXPY membership (the generic path) -----------------------------------------------------------
+    def constraints(self, x: cp.Expression) -> list[cp.Constraint]:
+        xi = cp.Variable(self.ng)
+        cons = [x == self.G @ xi + self.c]
+        if self.nc:
+            cons.append(self.A @ xi == self.b)
+        finite = np.flatnonzero(np.isfinite(self.h))
+        if finite.size:
+            cons.append(cp.abs(xi[finite]) <= self.h[finite])
+        return cons
+
+    # -- fast path -------------------------------------------------------------------------------------
+    @property
+    def factors(self) -> FactorConstraints:
+        """The factor set {ξ : Aξ = b, |ξ| ≤ h}, shared with every map and projection of this CZ."""
+        if self._factors is None:
+            self._factors = FactorConstraints(self.A, self.b, self.h)
+        return self._factors
+
+    @cached_property
+    def _program(self) -> CZProgram:
+        return CZProgram(self.G, self.c, self.factors)
+
+    def _as_constrained_zonotope(self) -> "ConstrainedZonotope":
+        return self
+
+    def _support(self, D: np.ndarray, certified: bool):
+        if self.nc == 0:
+            return self._unconstrained_support(D)
+        return self._program.support(D, certified)
+
+    def _unconstrained_support(self, D: np.ndarray):
+        # h_Z(d) = dᵀc + Σ_j h_j |(Gᵀd)_j|, with 0·∞ = 0 for factors the direction does not see.
+        g = np.asarray((self.G.T @ D.T).T)
+        with np.errstate(invalid="ignore"):
+            weight = np.where(g == 0.0, 0.0, np.abs(g) * self.h)
+            xi = np.where(g == 0.0, 0.0, np.sign(g) * self.h)
+            values = D @ self.c + weight.sum(axis=1)
+            points = np.asarray((self.G @ xi.T).T) + self.c
+        points[~np.isfinite(values)] = np.nan
+        return values, points
+
+    def _is_empty(self) -> bool:
+        return self.factors.is_empty()
+
+    def _contains(self, p: np.ndarray, margin: float) -> bool:
+        return self._program.contains(p, margin)
+
+    # -- closed-form algebra ---------------------------------------------------------------------------
+    def _linear_map(self, M) -> "ConstrainedZonotope":
+        """M Z = Z(MG, Mc, A, b, h) (smoothing paper (35), stability (11))."""
+        return ConstrainedZonotope._trusted(mx.matmul(M, self.G), np.asarray(M @ self.c).reshape(-1),
+                                            self.A, self.b, self.h, self._factors)
+
+    def _translate(self, v: np.ndarray) -> "ConstrainedZonotope":
+        return ConstrainedZonotope._trusted(self.G, self.c + v, self.A, self.b, self.h, self._factors)
+
+    def _project(self, idx: np.ndarray) -> "ConstrainedZonotope":
+        G = self.G[idx] if not sp.issparse(self.G) else sp.csc_matrix(self.G.tocsr()[idx])
+        return ConstrainedZonotope._trusted(G, self.c[idx], self.A, self.b, self.h, self._factors)
+
+    def _minkowski_sum(self, other: "ConstrainedZonotope") -> "ConstrainedZonotope":
+        """Z ⊕ W (smoothing paper (36))."""
+        return ConstrainedZonotope._trusted(
+            mx.hstack([self.G, other.G]), self.c + other.c, mx.block_diag(self.A, other.A),
+            np.concatenate([self.b, other.b]), np.concatenate([self.h, other.h]))
+
+    def _cartesian_product(self, other: "ConstrainedZonotope") -> "ConstrainedZonotope":
+        return ConstrainedZonotope._trusted(
+            mx.block_diag(self.G, other.G), np.concatenate([self.c, other.c]),
+            mx.block_diag(self.A, other.A), np.concatenate([self.b, other.b]),
+            np.concatenate([self.h, other.h]))
+
+    def _generalized_intersection(self, R, Y: "ConstrainedZonotope") -> "ConstrainedZonotope":
+        """Z ∩_R Y = {z ∈ Z : Rz ∈ Y} (smoothing paper (37); stability (21) with R = C).
+
+        G = [G_z 0], c = c_z, A = [[A_z, 0], [0, A_y], [R G_z, −G_y]], b = [b_z; b_y; c_y − R c_z],
+        h = [h_z; h_y].
+        """
+        sparse = mx.any_sparse(self.G, self.A, Y.G, Y.A, R)
+        RG = mx.matmul(R, self.G)
+        A = mx.vstack([
+            mx.block_diag(self.A, Y.A),
+            mx.hstack([RG, -Y.G]),
+        ])
+        if sparse and not sp.issparse(A):
+            A = sp.csc_matrix(A)
+        G = mx.hstack([self.G, mx.zeros_like_kind(self.dim, Y.ng, sp.issparse(self.G))])
+        b = np.concatenate([self.b, Y.b, Y.c - np.asarray(R @ self.c).reshape(-1)])
+        return ConstrainedZonotope._trusted(G, self.c, A, b, np.concatenate([self.h, Y.h]))
+
+
+def empty_constrained_zonotope(n: int) -> ConstrainedZonotope:
+    """A CZ with the contradictory constraint 0·ξ = 1: the empty set of ℝⁿ as a CZ."""
+    return ConstrainedZonotope._trusted(np.zeros((n, 1)), np.zeros(n), np.zeros((1, 1)),
+                                        np.ones(1), np.ones(1))

@@ -1,0 +1,102 @@
+"""H-polytopes {x : Hx ≤ k}: intersections, preimages and translations in closed form."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import cvxpy as cp
+import numpy as np
+import scipy.sparse as sp
+
+from .._validation import as_matrix, as_vector
+from . import _matrices as mx
+from .base import ConvexSet
+
+
+class HPolytope(ConvexSet):
+    """The polyhedron {x : Hx ≤ k} (possibly unbounded or empty).
+
+    Parameters
+    ----------
+    H : array_like, shape (m, n)
+        Normals, one inequality per row.
+    k : array_like, shape (m,)
+        Offsets.
+
+    Examples
+    --------
+    >>> import numpy as np, setsmooth as ss
+    >>> P = ss.HPolytope([[1.0, 1.0], [-1.0, 0.0], [0.0, -1.0]], [1.0, 0.0, 0.0])
+    >>> round(P.area(), 6)
+    0.5
+    """
+
+    def __init__(self, H: Any, k: Any):
+        H = as_matrix(H, "H")
+        k = as_vector(k, "k", H.shape[0])
+        self._init(H, k, H.shape[1])
+
+    def _init(self, H: np.ndarray, k: np.ndarray, dim: int) -> None:
+        self.H = mx.readonly(H)
+        self.k = mx.readonly(k)
+        self.dim = dim
+
+    @classmethod
+    def _trusted(cls, H: np.ndarray, k: np.ndarray, dim: int) -> "HPolytope":
+        obj = cls.__new__(cls)
+        obj._init(H.reshape(-1, dim), k.reshape(-1), dim)
+        return obj
+
+    def __repr__(self) -> str:
+        return f"HPolytope(dim={self.dim}, m={self.H.shape[0]})"
+
+    def constraints(self, x: cp.Expression) -> list[cp.Constraint]:
+        if self.H.shape[0] == 0:
+            return []
+        return [self.H @ x <= self.k]
+
+    def _contains(self, p: np.ndarray, margin: float) -> bool:
+        # An ∞-norm margin around the point relaxes row i by margin·‖H_i‖₁.
+        return bool(np.all(self.H @ p <= self.k + margin * np.abs(self.H).sum(axis=1)))
+
+    def _chebyshev_center(self) -> np.ndarray:
+        from ..solvers import chebyshev_ball
+
+        center, _ = chebyshev_ball(self.H, self.k)
+        return center
+
+    # -- closed-form algebra -----------------------------------------------------------------------
+    def _translate(self, v: np.ndarray) -> "HPolytope":
+        return HPolytope._trusted(self.H, self.k + self.H @ v, self.dim)
+
+    def _closed_intersection(self, other):
+        other = _as_hpolytope(other)
+        if other is None:
+            return NotImplemented
+        return HPolytope._trusted(np.vstack([self.H, other.H]), np.concatenate([self.k, other.k]),
+                                  self.dim)
+
+    def _closed_generalized_intersection(self, R, Y):
+        """{x ∈ P : Rx ∈ Y} = {x : Hx ≤ k, H_Y R x ≤ k_Y} for a polyhedral Y."""
+        Y = _as_hpolytope(Y)
+        if Y is None:
+            return NotImplemented
+        R = R.toarray() if sp.issparse(R) else R
+        return HPolytope._trusted(np.vstack([self.H, Y.H @ R]), np.concatenate([self.k, Y.k]), self.dim)
+
+    def _closed_product(self, other):
+        other = _as_hpolytope(other)
+        if other is None:
+            return NotImplemented
+        return HPolytope._trusted(mx.block_diag(self.H, other.H), np.concatenate([self.k, other.k]),
+                                  self.dim + other.dim)
+
+
+def _as_hpolytope(S):
+    from .box import Box
+
+    if isinstance(S, HPolytope):
+        return S
+    if isinstance(S, Box):
+        return S.to_hpolytope()
+    return None

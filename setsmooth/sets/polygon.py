@@ -1,0 +1,140 @@
+"""Exact polygons of 2-D sets from support points, their areas, and plotting.
+
+`vertices_2d` walks the boundary by support points: starting from a few directions, it queries the
+outward normal of every chord between consecutive boundary points and inserts the support point
+whenever it lies beyond the chord. For a polytope every inserted point is a vertex or lies on an edge,
+so the walk ends with the exact polygon (collinear points are then dropped); for a curved set it stops
+when every chord is within ``tol`` of the boundary or at ``max_vertices``. All chords of one round are
+queried as one stacked program.
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from .. import tolerances as tol_policy
+
+
+def vertices_2d(S, tol: float | None = None, max_vertices: int = 512) -> np.ndarray:
+    """Vertices of a bounded 2-D set, counter-clockwise, shape (k, 2).
+
+    Parameters
+    ----------
+    S : ConvexSet
+        A set with ``dim == 2``.
+    tol : float, optional
+        Absolute distance below which a support point counts as on a chord; defaults to
+        ``VERTEX_TOL`` times the set's extent.
+    max_vertices : int
+        Stop refining curved boundaries beyond this many points.
+
+    Returns
+    -------
+    ndarray, shape (k, 2)
+        k = 0 for the empty set, 1 for a point, 2 for a segment.
+
+    Raises
+    ------
+    ValueError
+        If ``S.dim != 2`` or the set is unbounded.
+    """
+    if S.dim != 2:
+        raise ValueError(f"vertices_2d needs a 2-D set, got dim = {S.dim} (project it first)")
+    if S.is_empty():
+        return np.zeros((0, 2))
+    angles = 2 * np.pi * (np.arange(8) + 0.1234) / 8
+    D = np.column_stack([np.cos(angles), np.sin(angles)])
+    values, points = S._support_points(D, "auto", False)
+    if not np.isfinite(values).all():
+        raise ValueError("vertices_2d needs a bounded set; this one is unbounded")
+    extent = np.ptp(points, axis=0).max()
+    eps = tol if tol is not None else tol_policy.scaled(tol_policy.VERTEX_TOL, extent)
+    poly = _dedupe(points, eps)
+    while len(poly) >= 2 and len(poly) < max_vertices:
+        nxt = np.roll(poly, -1, axis=0)
+        chords = nxt - poly
+        normals = np.column_stack([chords[:, 1], -chords[:, 0]])  # outward for a CCW walk
+        lengths = np.linalg.norm(normals, axis=1)
+        normals = normals / lengths[:, None]
+        values, found = S._support_points(normals, "auto", False)
+        gap = values - np.einsum("ij,ij->i", normals, poly)
+        grow = np.flatnonzero(gap > eps)
+        if grow.size == 0:
+            break
+        pieces = []
+        for i in range(len(poly)):
+            pieces.append(poly[i:i + 1])
+            if i in set(grow.tolist()):
+                pieces.append(found[i:i + 1])
+        poly = _dedupe(np.vstack(pieces), eps)
+    return _drop_collinear(poly, eps)
+
+
+def _dedupe(poly: np.ndarray, eps: float) -> np.ndarray:
+    """Remove cyclically consecutive points closer than eps."""
+    keep = [poly[0]]
+    for p in poly[1:]:
+        if np.linalg.norm(p - keep[-1]) > eps:
+            keep.append(p)
+    if len(keep) > 1 and np.linalg.norm(keep[-1] - keep[0]) <= eps:
+        keep.pop()
+    return np.array(keep)
+
+
+def _drop_collinear(poly: np.ndarray, eps: float) -> np.ndarray:
+    changed = True
+    while changed and len(poly) > 2:
+        changed = False
+        for i in range(len(poly)):
+            a, p, b = poly[i - 1], poly[i], poly[(i + 1) % len(poly)]
+            chord = b - a
+            length = np.linalg.norm(chord)
+            if length == 0:
+                continue
+            # distance of p from the line through a and b
+            if abs(chord[0] * (p - a)[1] - chord[1] * (p - a)[0]) / length <= eps:
+                poly = np.delete(poly, i, axis=0)
+                changed = True
+                break
+    return poly
+
+
+def polygon_area(vertices: np.ndarray) -> float:
+    """Shoelace area of a simple polygon given in order (0 for fewer than 3 vertices)."""
+    if len(vertices) < 3:
+        return 0.0
+    x, y = vertices[:, 0], vertices[:, 1]
+    return float(abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))) / 2)
+
+
+def plot_set(S, ax=None, dims: Sequence[int] = (0, 1), **kwargs):
+    """Draw the projection of ``S`` onto ``dims`` and return the matplotlib artist.
+
+    Keyword arguments go to `matplotlib.patches.Polygon` (``facecolor``, ``edgecolor``, ``alpha``,
+    ``label`` ...). A point or a segment is drawn as a line. The empty set draws nothing and returns
+    None.
+    """
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import Polygon
+
+    dims = tuple(dims)
+    if len(dims) != 2:
+        raise ValueError(f"dims must name two coordinates, got {dims}")
+    P = S if (S.dim == 2 and dims == (0, 1)) else S.project(dims)
+    verts = vertices_2d(P)
+    ax = plt.gca() if ax is None else ax
+    if len(verts) == 0:
+        return None
+    if len(verts) < 3:
+        line_kw = {k: v for k, v in kwargs.items() if k in ("color", "label", "alpha", "linewidth")}
+        (artist,) = ax.plot(verts[:, 0], verts[:, 1], marker="o" if len(verts) == 1 else None,
+                            **line_kw)
+        return artist
+    kwargs.setdefault("alpha", 0.4)
+    artist = Polygon(verts, closed=True, **kwargs)
+    ax.add_patch(artist)
+    ax.update_datalim(verts)
+    ax.autoscale_view()
+    return artist

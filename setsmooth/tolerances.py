@@ -1,0 +1,42 @@
+"""The tolerance policy: every numerical decision in setsmooth uses these constants.
+
+Values returned by interior-point solvers are accurate to roughly ``SOLVER_TOL`` relative to the
+problem's scale, so every decision that compares solver output (membership, emptiness, equality of
+support values, vertex detection) is made with a margin derived from these constants rather than with
+a literal scattered through the code.
+
+``scale`` in the helpers below is a magnitude of the data involved (for example ``1 + |c| + Σ h|G|``),
+so that a tolerance means the same thing for a set of width 1e-3 and one of width 1e3.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: Feasibility and optimality-gap tolerance asked of Clarabel (absolute and relative).
+SOLVER_TOL = 1e-9
+
+#: Relative margin used to decide membership ``contains`` when the caller gives no ``tol``.
+MEMBERSHIP_TOL = 1e-7
+
+#: Relative tolerance below which a reduced cost on an unbounded factor counts as zero, so that a
+#: weak-duality certificate stays finite (see ``solvers.certified_cz_support``).
+REDUCED_COST_TOL = 1e-7
+
+#: Relative tolerance of the rank decisions (null spaces, pseudo-inverses, recession directions).
+RANK_TOL = 1e-10
+
+#: Relative tolerance for merging or discarding polygon vertices in ``vertices_2d``.
+VERTEX_TOL = 1e-7
+
+
+def scaled(tol: float, scale: float) -> float:
+    """Return the absolute tolerance ``tol * max(1, scale)``."""
+    return tol * max(1.0, float(scale))
+
+
+def nearly_equal(a: float, b: float, tol: float = MEMBERSHIP_TOL) -> bool:
+    """Decide ``a == b`` for two (possibly infinite) values with a relative tolerance."""
+    if np.isinf(a) or np.isinf(b):
+        return bool(a == b)
+    return abs(a - b) <= scaled(tol, max(abs(a), abs(b)))
