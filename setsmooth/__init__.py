@@ -3,12 +3,16 @@
 from .sets import (Box, CartesianProduct, ConstrainedZonotope, ConvexSet, Ellipsoid, EmptySet,
                    GeneralizedIntersection, HPolytope, Intersection, LinearMap, MinkowskiSum, Reals,
                    Zonotope)
+from .filters import classical_filter
+from .smoothers import optimal_smoother, trajectory_set
 from .solvers import SolverError
+from .systems import LinearSystem, NonlinearSystem, simulate
 
 __version__ = "0.1.0"
 
 __all__ = [
     "ConvexSet", "Box", "Zonotope", "ConstrainedZonotope", "HPolytope", "Ellipsoid", "EmptySet",
     "Reals", "LinearMap", "MinkowskiSum", "Intersection", "GeneralizedIntersection",
-    "CartesianProduct", "SolverError",
+    "CartesianProduct", "SolverError", "LinearSystem", "NonlinearSystem", "simulate",
+    "classical_filter", "optimal_smoother", "trajectory_set",
 ]

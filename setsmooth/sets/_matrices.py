@@ -18,11 +18,16 @@ def vstack(mats):
     return sp.vstack(mats, format="csc") if any_sparse(*mats) else np.vstack(mats)
 
 
+#: A block-diagonal result with more entries than this is stored sparse: CZ constraint matrices built
+#: by repeated intersections (filters, smoothers) are mostly zero blocks.
+SPARSE_ABOVE = 4096
+
+
 def block_diag(*mats):
-    if any_sparse(*mats):
-        return sp.block_diag(mats, format="csc")
     rows = sum(m.shape[0] for m in mats)
     cols = sum(m.shape[1] for m in mats)
+    if any_sparse(*mats) or rows * cols > SPARSE_ABOVE:
+        return sp.block_diag([sp.csc_matrix(m) for m in mats], format="csc")
     out = np.zeros((rows, cols))
     r = c = 0
     for m in mats:

@@ -1,0 +1,6 @@
+"""Set-membership smoothers."""
+
+from .linear import optimal_smoother, smooth, smoothing_step
+from .trajectory import trajectory_set
+
+__all__ = ["optimal_smoother", "smooth", "smoothing_step", "trajectory_set"]
