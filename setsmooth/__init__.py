@@ -3,8 +3,10 @@
 from .sets import (Box, CartesianProduct, ConstrainedZonotope, ConvexSet, Ellipsoid, EmptySet,
                    GeneralizedIntersection, HPolytope, Intersection, LinearMap, MinkowskiSum, Reals,
                    Zonotope)
-from .filters import classical_filter
-from .smoothers import optimal_smoother, trajectory_set
+from . import montecarlo
+from .filters import (IntervalEstimates, KalmanResult, classical_filter, interval_filter, kalman_filter,
+                      rts_smoother)
+from .smoothers import interval_smoother, optimal_smoother, trajectory_set
 from .solvers import SolverError
 from .systems import LinearSystem, NonlinearSystem, simulate
 
@@ -14,5 +16,6 @@ __all__ = [
     "ConvexSet", "Box", "Zonotope", "ConstrainedZonotope", "HPolytope", "Ellipsoid", "EmptySet",
     "Reals", "LinearMap", "MinkowskiSum", "Intersection", "GeneralizedIntersection",
     "CartesianProduct", "SolverError", "LinearSystem", "NonlinearSystem", "simulate",
-    "classical_filter", "optimal_smoother", "trajectory_set",
+    "classical_filter", "optimal_smoother", "trajectory_set", "interval_filter", "interval_smoother",
+    "IntervalEstimates", "kalman_filter", "rts_smoother", "KalmanResult", "montecarlo",
 ]

@@ -205,23 +205,12 @@ class CZProgram:
         """
         k, n = D.shape
         GtD = np.asarray((self.G.T @ D.T).T)  # (k, ng): objective of each block
-        offsets = D @ self.c
         sol = self._solve(-GtD, "computing support functions of a constrained zonotope")
         if sol.status == "infeasible":
             return np.full(k, -np.inf), np.full((k, n), np.nan)
         if sol.status == "unbounded":
             return self._support_one_by_one(D, certified)
-        if sol.status == "inaccurate" and not certified:
-            raise SolverError(_ALMOST_SOLVED, "computing support functions (pass certified=True "
-                              "to accept a weak-duality bound)")
-        xi = sol.x.reshape(k, self.ng)
-        points = np.asarray((self.G @ xi.T).T) + self.c
-        if certified:
-            lam = sol.z_eq.reshape(k, self.nc)
-            values = offsets + self._dual_bound(GtD, lam)
-        else:
-            values = offsets + np.einsum("ij,ij->i", GtD, xi)
-        return values, points
+        return self._finish(D, GtD, sol, certified)
 
     def _support_one_by_one(self, D: np.ndarray, certified: bool) -> tuple[np.ndarray, np.ndarray]:
         # Some direction is unbounded, which makes the stacked LP dual infeasible as a whole.
@@ -237,22 +226,42 @@ class CZProgram:
             if sol.status == "unbounded":
                 values[i] = np.inf
                 continue
-            v, p = self._finish_single(D[i], sol, certified)
-            values[i], points[i] = v, p
+            if sol.status == "infeasible":  # pragma: no cover - ruled out by is_empty above
+                raise SolverError("PrimalInfeasible", "re-solving a feasible constrained zonotope")
+            g = np.asarray(self.G.T @ D[i]).reshape(1, -1)
+            v, p = self._finish(D[i:i + 1], g, sol, certified)
+            values[i], points[i] = v[0], p[0]
         return values, points
 
-    def _finish_single(self, d, sol: LPSolution, certified: bool):
-        if sol.status == "infeasible":  # pragma: no cover - ruled out by is_empty above
-            raise SolverError("PrimalInfeasible", "re-solving a feasible constrained zonotope")
-        if sol.status == "inaccurate" and not certified:
-            raise SolverError(_ALMOST_SOLVED, "computing a support function")
-        g = np.asarray(self.G.T @ d).reshape(1, -1)
-        point = np.asarray(self.G @ sol.x).reshape(-1) + self.c
+    def _finish(self, D: np.ndarray, GtD: np.ndarray, sol: LPSolution, certified: bool):
+        """Values and points from a solved stacked LP.
+
+        ``certified`` returns the weak-duality bound. Otherwise the primal objective is returned; when
+        Clarabel only reached reduced accuracy ('AlmostSolved') that objective is accepted only if we
+        verify it: the primal point is feasible to ``SOLVER_CHECK_TOL`` and the always-valid dual bound
+        agrees with it to ``SOLVER_CHECK_TOL`` (both relative to the problem's scale). Else SolverError.
+        """
+        k = D.shape[0]
+        xi = sol.x.reshape(k, self.ng)
+        points = np.asarray((self.G @ xi.T).T) + self.c
+        offsets = D @ self.c
+        primal = np.einsum("ij,ij->i", GtD, xi)
+        if not certified and sol.status == "optimal":
+            return offsets + primal, points
+        bound = self._dual_bound(GtD, sol.z_eq.reshape(k, self.nc))
         if certified:
-            value = d @ self.c + self._dual_bound(g, sol.z_eq.reshape(1, -1))[0]
-        else:
-            value = d @ point
-        return value, point
+            return offsets + bound, points
+        scale = 1.0 + np.abs(GtD).sum(axis=1) * np.max(self.h[self.finite], initial=1.0) \
+            + np.abs(self.b).max(initial=0.0)
+        residual = np.abs(np.asarray((self.A @ xi.T).T) - self.b).max(axis=1, initial=0.0)
+        overshoot = np.max(np.abs(xi[:, self.finite]) - self.h[self.finite], axis=1, initial=0.0)
+        checked = (np.abs(bound - primal) <= tol.SOLVER_CHECK_TOL * scale) \
+            & (residual <= tol.SOLVER_CHECK_TOL * scale) & (overshoot <= tol.SOLVER_CHECK_TOL * scale)
+        if not checked.all():
+            raise SolverError(_ALMOST_SOLVED, "computing support functions: the reduced-accuracy "
+                              "solution failed the duality-gap check (certified=True still returns a "
+                              "valid upper bound)")
+        return offsets + primal, points
 
     def _dual_bound(self, GtD: np.ndarray, lam: np.ndarray) -> np.ndarray:
         """Weak-duality bound bᵀλ + Σ_j h_j |(Gᵀd − Aᵀλ)_j| ≥ max{(Gᵀd)ᵀξ : Aξ=b, |ξ|≤h}.

@@ -16,6 +16,10 @@ import numpy as np
 #: Feasibility and optimality-gap tolerance asked of Clarabel (absolute and relative).
 SOLVER_TOL = 1e-9
 
+#: Relative accuracy to which a reduced-accuracy ('AlmostSolved') LP answer is verified (duality gap,
+#: primal feasibility) before it is returned; an answer failing the check raises ``SolverError``.
+SOLVER_CHECK_TOL = 1e-6
+
 #: Relative margin used to decide membership ``contains`` when the caller gives no ``tol``.
 MEMBERSHIP_TOL = 1e-7
 

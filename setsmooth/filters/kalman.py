@@ -1,0 +1,219 @@
+"""Kalman filter and Rauch–Tung–Striebel smoother: the stochastic baseline of smoothing paper §IV-C.
+
+For the linear time-varying model of smoothing paper (13)–(14),
+
+    x_{k+1} = A_k x_k + B_k w_k + u_k,      w_k ~ N(0, Q)   (p-dimensional),
+    y_k     = C_k x_k + D_k v_k,            v_k ~ N(0, R)   (q-dimensional),
+
+with x_0 ~ N(x0_mean, P0). The set-membership model gives no noise statistics, so Q and R are tuning
+parameters; the paper uses Q = q, R = r·I (32). Measurement y_0 is taken at k = 0: step 0 updates the
+prior with y_0 and does not predict.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import scipy.linalg as sla
+
+from .._validation import as_matrix, as_vector, check_dim
+
+
+@dataclass(frozen=True)
+class KalmanResult:
+    """Gaussian estimates N(means[k], covariances[k]) of x_k for k = 0..T.
+
+    Attributes
+    ----------
+    means : ndarray, shape (T+1, n)
+        Filtered E[x_k | y_{0:k}] or smoothed E[x_k | y_{0:T}] means.
+    covariances : ndarray, shape (T+1, n, n)
+        The matching covariances.
+    predicted_means : ndarray, shape (T+1, n), or None
+        Filter only: E[x_k | y_{0:k-1}]; entry 0 is the prior mean x0_mean.
+    predicted_covariances : ndarray, shape (T+1, n, n), or None
+        Filter only: the matching covariances; entry 0 is P0.
+    """
+
+    means: np.ndarray
+    covariances: np.ndarray
+    predicted_means: np.ndarray | None = None
+    predicted_covariances: np.ndarray | None = None
+
+
+def kalman_filter(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) -> KalmanResult:
+    """Filtered Gaussian estimates of x_k given y_{0:k}, for k = 0..T.
+
+    Parameters
+    ----------
+    system : object
+        Provides ``n`` (state dimension) and methods ``A(k)`` (n×n), ``B(k)`` (n×p), ``C(k)`` (m×n),
+        ``D(k)`` (m×q) and ``input_term(k)`` (the known term u_k added to x_{k+1}, length n), as
+        `setsmooth.systems.LinearSystem` does.
+    ys : array_like, shape (T+1, m)
+        Measurements y_0..y_T (a 1-D array is accepted when m = 1).
+    x0_mean : array_like, shape (n,)
+        Prior mean of x_0.
+    P0 : array_like, shape (n, n)
+        Prior covariance of x_0 (symmetric positive semidefinite).
+    Q : float or array_like, shape (p, p)
+        Covariance of w_k; a scalar q means q·I_p (smoothing paper (32)).
+    R : float or array_like, shape (q, q)
+        Covariance of v_k; a scalar r means r·I_q (smoothing paper (32)).
+
+    Returns
+    -------
+    KalmanResult
+        ``means``/``covariances`` are the posteriors given y_{0:k}; ``predicted_means``/
+        ``predicted_covariances`` the priors given y_{0:k-1}.
+
+    Raises
+    ------
+    ValueError
+        When shapes disagree, a covariance is not symmetric positive semidefinite, or an innovation
+        covariance C_k P C_kᵀ + D_k R D_kᵀ is singular.
+    TypeError
+        When ``system`` lacks the required interface.
+
+    References
+    ----------
+    Smoothing paper §IV-C (RTS baseline, [6], [22]); R. E. Kalman (1960).
+    """
+    n, ys, m0, P = _validate(system, ys, x0_mean, P0)
+    steps = ys.shape[0]
+    means = np.empty((steps, n))
+    covs = np.empty((steps, n, n))
+    pred_means = np.empty((steps, n))
+    pred_covs = np.empty((steps, n, n))
+    mean = m0
+    for k in range(steps):
+        if k > 0:
+            mean, P = _predict(system, k - 1, means[k - 1], covs[k - 1], Q, n)
+        pred_means[k], pred_covs[k] = mean, P
+        means[k], covs[k] = _update(system, k, mean, P, ys[k], R, n)
+    return KalmanResult(means, covs, pred_means, pred_covs)
+
+
+def rts_smoother(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) -> KalmanResult:
+    """Smoothed Gaussian estimates of x_k given y_{0:T} (Rauch–Tung–Striebel), for k = 0..T.
+
+    Runs `kalman_filter`, then the backward pass
+
+        G_k  = P_{k|k} A_kᵀ P_{k+1|k}⁻¹,
+        m_k^s = m_{k|k} + G_k (m_{k+1}^s − m_{k+1|k}),
+        P_k^s = P_{k|k} + G_k (P_{k+1}^s − P_{k+1|k}) G_kᵀ.
+
+    Parameters
+    ----------
+    system, ys, x0_mean, P0, Q, R
+        As for `kalman_filter`.
+
+    Returns
+    -------
+    KalmanResult
+        ``means``/``covariances`` are E[x_k | y_{0:T}] and its covariance; the ``predicted_*``
+        fields are None.
+
+    Raises
+    ------
+    ValueError, TypeError
+        As for `kalman_filter`.
+
+    References
+    ----------
+    Smoothing paper §IV-C and (32); H. E. Rauch, F. Tung, C. T. Striebel, AIAA J. 3(8), 1965.
+    """
+    filt = kalman_filter(system, ys, x0_mean, P0, Q, R)
+    means = filt.means.copy()
+    covs = filt.covariances.copy()
+    for k in range(means.shape[0] - 2, -1, -1):
+        A = _mat(system.A(k), f"A({k})", system.n, system.n)
+        P_pred = filt.predicted_covariances[k + 1]
+        # Gᵀ = P_pred⁻¹ A P_filt since both covariances are symmetric.
+        G = _solve_psd(P_pred, A @ filt.covariances[k]).T
+        means[k] = filt.means[k] + G @ (means[k + 1] - filt.predicted_means[k + 1])
+        covs[k] = _symmetrize(filt.covariances[k] + G @ (covs[k + 1] - P_pred) @ G.T)
+    return KalmanResult(means, covs)
+
+
+def _predict(system: Any, k: int, mean: np.ndarray, P: np.ndarray, Q: Any,
+             n: int) -> tuple[np.ndarray, np.ndarray]:
+    A = _mat(system.A(k), f"A({k})", n, n)
+    B = _mat(system.B(k), f"B({k})", n, None)
+    Qk = _noise_covariance(Q, "Q", B.shape[1])
+    u = as_vector(system.input_term(k), f"input_term({k})", n)
+    return A @ mean + u, _symmetrize(A @ P @ A.T + B @ Qk @ B.T)
+
+
+def _update(system: Any, k: int, mean: np.ndarray, P: np.ndarray, y: np.ndarray, R: Any,
+            n: int) -> tuple[np.ndarray, np.ndarray]:
+    C = _mat(system.C(k), f"C({k})", y.shape[0], n)
+    D = _mat(system.D(k), f"D({k})", y.shape[0], None)
+    DRD = D @ _noise_covariance(R, "R", D.shape[1]) @ D.T
+    S = _symmetrize(C @ P @ C.T + DRD)
+    try:
+        K = sla.solve(S, C @ P, assume_a="pos").T
+    except (np.linalg.LinAlgError, sla.LinAlgError) as exc:
+        raise ValueError(f"innovation covariance C P Cᵀ + D R Dᵀ at k = {k} is singular; "
+                         "make R (or P0) positive definite") from exc
+    # Joseph form: stays symmetric PSD under rounding, unlike P − K S Kᵀ.
+    I_KC = np.eye(n) - K @ C
+    P_post = _symmetrize(I_KC @ P @ I_KC.T + K @ DRD @ K.T)
+    return mean + K @ (y - C @ mean), P_post
+
+
+def _solve_psd(P: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """P⁻¹ rhs for a PSD P; the least-squares (pseudo-inverse) solution when P is singular."""
+    try:
+        return sla.solve(P, rhs, assume_a="pos")
+    except (np.linalg.LinAlgError, sla.LinAlgError):
+        # Singular P_{k+1|k} (e.g. Q = 0 with a degenerate P0): the pseudo-inverse gain is the
+        # limit of the regularized one and still yields the correct conditional mean.
+        return np.linalg.lstsq(P, rhs, rcond=None)[0]
+
+
+def _validate(system: Any, ys: Any, x0_mean: Any, P0: Any) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
+    for attr in ("A", "B", "C", "D", "input_term"):
+        if not callable(getattr(system, attr, None)):
+            raise TypeError(f"system must provide a method {attr}(k); got {type(system).__name__}")
+    n = check_dim(getattr(system, "n", None), "system.n")
+    m = _mat(system.C(0), "C(0)", None, n).shape[0]
+    arr = np.asarray(ys, dtype=float)
+    if arr.ndim == 1 and m == 1:
+        arr = arr.reshape(-1, 1)
+    if arr.ndim != 2 or arr.shape[1] != m or arr.shape[0] < 1:
+        raise ValueError(f"ys must have shape (T+1, m={m}), got {np.shape(ys)}")
+    if not np.isfinite(arr).all():
+        raise ValueError("ys contains NaN or inf")
+    mean = as_vector(x0_mean, "x0_mean", n)
+    P = _covariance(P0, "P0", n)
+    return n, arr, mean, P
+
+
+def _noise_covariance(value: Any, name: str, dim: int) -> np.ndarray:
+    if np.ndim(value) == 0:
+        scale = float(value)
+        if not np.isfinite(scale) or scale < 0:
+            raise ValueError(f"{name} must be a non-negative scalar or a ({dim}, {dim}) matrix, got {value}")
+        return scale * np.eye(dim)
+    return _covariance(value, name, dim)
+
+
+def _covariance(value: Any, name: str, dim: int) -> np.ndarray:
+    M = as_matrix(value, name, dim, dim)
+    scale = max(1.0, float(np.abs(M).max()))
+    if not np.allclose(M, M.T, rtol=0.0, atol=1e-10 * scale):
+        raise ValueError(f"{name} must be symmetric, got a ({dim}, {dim}) matrix that is not")
+    if np.linalg.eigvalsh(M).min() < -1e-10 * scale:
+        raise ValueError(f"{name} must be positive semidefinite")
+    return _symmetrize(M)
+
+
+def _mat(value: Any, name: str, rows: int | None, cols: int | None) -> np.ndarray:
+    return as_matrix(value, f"system.{name}", rows, cols)
+
+
+def _symmetrize(M: np.ndarray) -> np.ndarray:
+    return 0.5 * (M + M.T)

@@ -1,0 +1,89 @@
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+import setsmooth as ss
+from setsmooth.filters.classical import predict, update
+from tests.estimation_helpers import (DIRECTIONS_2D, contains_by_support, example_31, singular_system,
+                                      time_varying_system)
+
+SYSTEMS = {"example_31": example_31, "singular": singular_system, "time_varying": time_varying_system}
+
+
+@pytest.mark.parametrize("name", SYSTEMS)
+def test_true_state_lies_in_every_posterior(name):
+    sys = SYSTEMS[name]()
+    X0 = ss.Box([-3, -3], [3, 3])
+    for seed in range(8):
+        xs, ys = ss.simulate(sys, X0, 15, np.random.default_rng(seed))
+        for k, post in enumerate(ss.classical_filter(sys, X0, ys)):
+            assert contains_by_support(post, xs[k], DIRECTIONS_2D), (seed, k)
+
+
+def test_filter_with_cz_inputs_is_exactly_stability_20_and_21():
+    sys = example_31()
+    X0 = ss.Zonotope([[1.0, 0.5], [0.0, 1.0]], [0.2, -0.1]).to_constrained_zonotope()
+    y = np.array([0.3, -0.2])
+    post = update(sys, 0, X0, y)
+    # (21): Z([G 0], c, [[A, 0], [0, A_v], [C G, −(−D G_v)]], [b; b_v; y − D c_v − C c], [h; h_v])
+    Gv = np.eye(2)
+    assert np.allclose(_dense(post.G), np.hstack([X0.G, np.zeros((2, 2))]))
+    assert np.allclose(post.c, X0.c)
+    assert np.allclose(_dense(post.A), np.hstack([sys.C(0) @ X0.G, sys.D(0) @ Gv]))
+    assert np.allclose(post.b, y - sys.C(0) @ X0.c)
+    prior = predict(sys, 0, post)
+    # (20): Z([A G, B G_w], A c + B c_w, blkdiag(A, A_w), [b; b_w], [h; h_w])
+    assert np.allclose(_dense(prior.G), np.hstack([sys.A(0) @ _dense(post.G), sys.B(0)]))
+    assert np.allclose(prior.c, sys.A(0) @ post.c)
+    assert np.allclose(_dense(prior.A), np.hstack([_dense(post.A), np.zeros((2, 1))]))
+    assert np.allclose(prior.h, np.concatenate([post.h, [1.0]]))
+
+
+def test_inconsistent_measurements_give_empty_posteriors_that_stay_empty():
+    sys = example_31()
+    X0 = ss.Box([-1, -1], [1, 1])
+    xs, ys = ss.simulate(sys, X0, 6, np.random.default_rng(0))
+    ys[3] += 100.0
+    posts = ss.classical_filter(sys, X0, ys)
+    assert not any(p.is_empty() for p in posts[:3])
+    assert all(isinstance(p, ss.EmptySet) for p in posts[3:])
+    assert posts[4].support([1.0, 0.0]) == -np.inf
+
+
+def test_without_detection_an_empty_posterior_is_still_reported_empty():
+    sys = example_31()
+    X0 = ss.Box([-1, -1], [1, 1])
+    ys = np.array([[0.0, 0.0], [50.0, 50.0]])
+    posts = ss.classical_filter(sys, X0, ys, detect_empty=False)
+    assert isinstance(posts[1], ss.ConstrainedZonotope) and posts[1].is_empty()
+    assert posts[1].interval_hull().is_empty()
+
+
+def test_filter_works_on_sets_without_a_cz_form():
+    """An ellipsoidal ⟦x_0⟧ keeps the sets exact as lazy sets queried through CVXPY."""
+    sys = example_31()
+    X0 = ss.Ellipsoid([0.0, 0.0], np.diag([4.0, 1.0]))
+    xs, ys = ss.simulate(sys, X0, 3, np.random.default_rng(2))
+    posts = ss.classical_filter(sys, X0, ys)
+    assert not isinstance(posts[-1], ss.ConstrainedZonotope)
+    for k, post in enumerate(posts):
+        values = post.support_many(DIRECTIONS_2D)
+        assert np.all(DIRECTIONS_2D @ xs[k] <= values + 1e-6)
+
+
+@pytest.mark.parametrize("bad, match", [
+    (np.zeros((3, 3)), r"ys must have shape \(T\+1, m=2\)"),
+    (np.full((3, 2), np.nan), "NaN"),
+])
+def test_filter_rejects_bad_measurements(bad, match):
+    with pytest.raises(ValueError, match=match):
+        ss.classical_filter(example_31(), ss.Box([-1, -1], [1, 1]), bad)
+
+
+def test_filter_rejects_an_initial_set_of_the_wrong_dimension():
+    with pytest.raises(ValueError, match="X0 must be a ConvexSet of dimension n = 2"):
+        ss.classical_filter(example_31(), ss.Box([-1], [1]), np.zeros((2, 2)))
+
+
+def _dense(M):
+    return M.toarray() if sp.issparse(M) else np.asarray(M)

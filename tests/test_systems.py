@@ -1,0 +1,98 @@
+import control
+import numpy as np
+import pytest
+
+import setsmooth as ss
+from tests.estimation_helpers import example_31, time_varying_system
+
+
+def test_simulated_noises_lie_in_their_sets():
+    sys = example_31()
+    xs, ys = ss.simulate(sys, ss.Box([-5, -5], [5, 5]), 30, np.random.default_rng(1))
+    assert xs.shape == (31, 2) and ys.shape == (31, 2)
+    for k in range(30):
+        w = np.linalg.lstsq(sys.B(k), xs[k + 1] - sys.A(k) @ xs[k], rcond=None)[0]
+        assert np.allclose(sys.B(k) @ w, xs[k + 1] - sys.A(k) @ xs[k])
+        assert -1 - 1e-12 <= w[0] <= 1 + 1e-12
+    v = ys - xs @ sys.C(0).T
+    assert np.all(np.abs(v) <= 1 + 1e-12)
+
+
+def test_simulation_is_reproducible_from_the_seed():
+    sys = example_31()
+    a = ss.simulate(sys, ss.Box([-5, -5], [5, 5]), 10, np.random.default_rng(7))
+    b = ss.simulate(sys, ss.Box([-5, -5], [5, 5]), 10, np.random.default_rng(7))
+    c = ss.simulate(sys, ss.Box([-5, -5], [5, 5]), 10, np.random.default_rng(8))
+    assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
+    assert not np.array_equal(a[0], c[0])
+
+
+def test_time_varying_matrices_and_known_input_drive_the_simulation():
+    sys = time_varying_system()
+    xs, _ = ss.simulate(sys, ss.Box([-1, -1], [1, 1]), 5, np.random.default_rng(0))
+    for k in range(5):
+        w = np.linalg.solve(sys.B(k), xs[k + 1] - sys.A(k) @ xs[k] - sys.input_term(k))
+        assert sys.W.contains(w)
+
+
+def test_sequence_of_matrices_is_indexed_by_k():
+    A = [np.eye(2) * (k + 1) for k in range(3)]
+    sys = ss.LinearSystem(A, np.eye(2), np.eye(2), np.eye(2), ss.Box([0, 0], [0, 0]), ss.Box([0, 0], [0, 0]))
+    assert np.array_equal(sys.A(2), 3 * np.eye(2))
+    with pytest.raises(IndexError, match="A is given for k in"):
+        sys.A(3)
+
+
+def test_from_statespace_keeps_a_discrete_model():
+    ssd = control.StateSpace([[0.9, 0.1], [0.0, 0.8]], [[1.0], [0.5]], [[1.0, 0.0]], [[0.0]], 1)
+    sys = ss.LinearSystem.from_statespace(ssd, ss.Box([-1], [1]), ss.Box([-1], [1]))
+    assert np.allclose(sys.A(0), [[0.9, 0.1], [0.0, 0.8]]) and np.allclose(sys.D(0), [[1.0]])
+
+
+def test_from_statespace_discretizes_a_continuous_model_with_c2d():
+    ssc = control.StateSpace([[0.0, 1.0], [-1.0, -0.5]], [[0.0], [1.0]], [[1.0, 0.0]], [[0.0]])
+    sys = ss.LinearSystem.from_statespace(ssc, ss.Box([-1], [1]), ss.Box([-1], [1]), dt=0.1)
+    expected = control.c2d(ssc, 0.1, method="zoh")
+    assert np.allclose(sys.A(0), expected.A) and np.allclose(sys.B(0), expected.B)
+    with pytest.raises(ValueError, match="dt"):
+        ss.LinearSystem.from_statespace(ssc, ss.Box([-1], [1]), ss.Box([-1], [1]))
+
+
+def test_from_statespace_rejects_feedthrough():
+    ssd = control.StateSpace([[0.5]], [[1.0]], [[1.0]], [[0.3]], 1)
+    with pytest.raises(ValueError, match="feedthrough"):
+        ss.LinearSystem.from_statespace(ssd, ss.Box([-1], [1]), ss.Box([-1], [1]))
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(A=np.ones((2, 3))), "A must be square"),
+    (dict(B=np.ones((3, 1))), r"B must have shape \(2, 1\)"),
+    (dict(C=np.ones((1, 3))), r"C must have shape \(any, 2\)"),
+    (dict(D=np.ones((1, 2))), r"D must have shape \(1, 1\)"),
+    (dict(W="box"), "W must be a ConvexSet"),
+    (dict(u=np.ones((5, 3))), r"u must have shape \(T, n=2\)"),
+])
+def test_linear_system_rejects_inconsistent_dimensions(kwargs, match):
+    args = dict(A=np.eye(2), B=np.ones((2, 1)), C=np.ones((1, 2)), D=np.ones((1, 1)),
+                W=ss.Box([-1], [1]), V=ss.Box([-1], [1]))
+    args.update(kwargs)
+    with pytest.raises((ValueError, TypeError), match=match):
+        ss.LinearSystem(**args)
+
+
+def test_simulate_validates_its_arguments():
+    sys = example_31()
+    with pytest.raises(TypeError, match="rng"):
+        ss.simulate(sys, ss.Box([-1, -1], [1, 1]), 3, 42)
+    with pytest.raises(ValueError, match="T must be"):
+        ss.simulate(sys, ss.Box([-1, -1], [1, 1]), -1, np.random.default_rng())
+    with pytest.raises(ValueError, match="x0_set"):
+        ss.simulate(sys, ss.Box([-1], [1]), 3, np.random.default_rng())
+
+
+def test_nonlinear_system_simulates_the_cube_root_example():
+    sys = ss.NonlinearSystem(lambda k, x, w: np.cbrt(x) + x + w, lambda k, x, v: 2 * x + v,
+                             ss.Box([-1], [1]), ss.Box([1], [3]), n=1)
+    xs, ys = ss.simulate(sys, ss.Box([-5], [5]), 20, np.random.default_rng(3))
+    v = ys[:, 0] - 2 * xs[:, 0]
+    assert np.all((v >= 1) & (v <= 3))
