@@ -112,6 +112,12 @@ def solve_lp(q: np.ndarray, A: sp.csc_matrix, b: np.ndarray, n_eq: int, n_ineq: 
     return LPSolution(status, np.asarray(sol.x), np.asarray(sol.z)[:n_eq], float(sol.solve_time))
 
 
+#: Directions are stacked into one LP while the stacked program has at most this many variables;
+#: beyond it one LP per direction is faster (measured: 6 directions × 4208 factors take 0.47 s
+#: stacked and 6 × 0.043 s one by one in Clarabel).
+STACK_MAX_VARIABLES = 3000
+
+
 class FactorConstraints:
     """The factor set {ξ : Aξ = b, -h ≤ ξ ≤ h} of a constrained zonotope, assembled for Clarabel.
 
@@ -204,6 +210,8 @@ class CZProgram:
             A maximizer per direction (NaN where the value is infinite).
         """
         k, n = D.shape
+        if k > 1 and k * self.ng > STACK_MAX_VARIABLES:
+            return self._support_one_by_one(D, certified)
         GtD = np.asarray((self.G.T @ D.T).T)  # (k, ng): objective of each block
         sol = self._solve(-GtD, "computing support functions of a constrained zonotope")
         if sol.status == "infeasible":
@@ -213,8 +221,9 @@ class CZProgram:
         return self._finish(D, GtD, sol, certified)
 
     def _support_one_by_one(self, D: np.ndarray, certified: bool) -> tuple[np.ndarray, np.ndarray]:
-        # Some direction is unbounded, which makes the stacked LP dual infeasible as a whole.
-        # Dual infeasibility alone does not prove feasibility, so emptiness is settled first.
+        # Used for large programs, and when some direction is unbounded (which makes the stacked LP
+        # dual infeasible as a whole). Dual infeasibility alone does not prove feasibility, so
+        # emptiness is settled first.
         k, n = D.shape
         if self.factors.is_empty():
             return np.full(k, -np.inf), np.full((k, n), np.nan)
