@@ -16,7 +16,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import scipy.linalg as sla
 
 from .._validation import as_matrix, as_vector, check_dim
 
@@ -82,6 +81,9 @@ def kalman_filter(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) -
     Smoothing paper §IV-C (RTS baseline, [6], [22]); R. E. Kalman (1960).
     """
     n, ys, m0, P = _validate(system, ys, x0_mean, P0)
+    # Validated once here; the loop below trusts them (system matrices are validated by the system).
+    Q = _noise_covariance(Q, "Q", _mat(system.B(0), "B(0)", n, None).shape[1])
+    R = _noise_covariance(R, "R", _mat(system.D(0), "D(0)", ys.shape[1], None).shape[1])
     steps = ys.shape[0]
     means = np.empty((steps, n))
     covs = np.empty((steps, n, n))
@@ -129,7 +131,7 @@ def rts_smoother(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) ->
     means = filt.means.copy()
     covs = filt.covariances.copy()
     for k in range(means.shape[0] - 2, -1, -1):
-        A = _mat(system.A(k), f"A({k})", system.n, system.n)
+        A = np.asarray(system.A(k))
         P_pred = filt.predicted_covariances[k + 1]
         # Gᵀ = P_pred⁻¹ A P_filt since both covariances are symmetric.
         G = _solve_psd(P_pred, A @ filt.covariances[k]).T
@@ -138,24 +140,21 @@ def rts_smoother(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) ->
     return KalmanResult(means, covs)
 
 
-def _predict(system: Any, k: int, mean: np.ndarray, P: np.ndarray, Q: Any,
+def _predict(system: Any, k: int, mean: np.ndarray, P: np.ndarray, Q: np.ndarray,
              n: int) -> tuple[np.ndarray, np.ndarray]:
-    A = _mat(system.A(k), f"A({k})", n, n)
-    B = _mat(system.B(k), f"B({k})", n, None)
-    Qk = _noise_covariance(Q, "Q", B.shape[1])
-    u = as_vector(system.input_term(k), f"input_term({k})", n)
-    return A @ mean + u, _symmetrize(A @ P @ A.T + B @ Qk @ B.T)
+    A, B = np.asarray(system.A(k)), np.asarray(system.B(k))
+    return A @ mean + system.input_term(k), _symmetrize(A @ P @ A.T + B @ Q @ B.T)
 
 
-def _update(system: Any, k: int, mean: np.ndarray, P: np.ndarray, y: np.ndarray, R: Any,
+def _update(system: Any, k: int, mean: np.ndarray, P: np.ndarray, y: np.ndarray, R: np.ndarray,
             n: int) -> tuple[np.ndarray, np.ndarray]:
-    C = _mat(system.C(k), f"C({k})", y.shape[0], n)
-    D = _mat(system.D(k), f"D({k})", y.shape[0], None)
-    DRD = D @ _noise_covariance(R, "R", D.shape[1]) @ D.T
+    C, D = np.asarray(system.C(k)), np.asarray(system.D(k))
+    DRD = D @ R @ D.T
     S = _symmetrize(C @ P @ C.T + DRD)
     try:
-        K = sla.solve(S, C @ P, assume_a="pos").T
-    except (np.linalg.LinAlgError, sla.LinAlgError) as exc:
+        # numpy's solve: scipy's argument checks cost more than the solve for these small matrices
+        K = np.linalg.solve(S, C @ P).T
+    except np.linalg.LinAlgError as exc:
         raise ValueError(f"innovation covariance C P Cᵀ + D R Dᵀ at k = {k} is singular; "
                          "make R (or P0) positive definite") from exc
     # Joseph form: stays symmetric PSD under rounding, unlike P − K S Kᵀ.
@@ -167,8 +166,8 @@ def _update(system: Any, k: int, mean: np.ndarray, P: np.ndarray, y: np.ndarray,
 def _solve_psd(P: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     """P⁻¹ rhs for a PSD P; the least-squares (pseudo-inverse) solution when P is singular."""
     try:
-        return sla.solve(P, rhs, assume_a="pos")
-    except (np.linalg.LinAlgError, sla.LinAlgError):
+        return np.linalg.solve(P, rhs)
+    except np.linalg.LinAlgError:
         # Singular P_{k+1|k} (e.g. Q = 0 with a degenerate P0): the pseudo-inverse gain is the
         # limit of the regularized one and still yields the correct conditional mean.
         return np.linalg.lstsq(P, rhs, rcond=None)[0]
