@@ -36,7 +36,7 @@ def as_matrix(value: Any, name: str, rows: int | None = None, cols: int | None =
         if not allow_sparse:
             value = value.toarray()
         else:
-            mat = sp.csc_matrix(value, dtype=float)
+            mat = sp.csc_matrix(value, dtype=float, copy=True)  # the caller keeps theirs
             _check_shape(mat.shape, name, rows, cols)
             if not np.isfinite(mat.data).all():
                 raise ValueError(f"{name} contains NaN or inf; expected finite entries")
@@ -77,6 +77,13 @@ def as_directions(value: Any, dim: int, name: str = "D") -> np.ndarray:
     if not np.isfinite(arr).all():
         raise ValueError(f"{name} contains NaN or inf; expected finite directions")
     return arr
+
+
+def check_rng(rng: Any) -> np.random.Generator:
+    """Return ``rng`` if it is a `numpy.random.Generator` (randomness enters only through one)."""
+    if not isinstance(rng, np.random.Generator):
+        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+    return rng
 
 
 def check_dim(value: Any, name: str) -> int:

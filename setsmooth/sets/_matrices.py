@@ -43,8 +43,8 @@ def zeros_like_kind(rows: int, cols: int, sparse: bool):
 
 def matmul(M, X):
     """M @ X, returning a dense array when both are dense and a CSC matrix otherwise."""
-    out = M @ X
-    return sp.csc_matrix(out) if sp.issparse(out) else np.asarray(out)
+    out = M @ X  # ndarray @ sparse is an ndarray: the operands decide, not the product's type
+    return sp.csc_matrix(out) if any_sparse(M, X) else np.asarray(out)
 
 
 def abs_row_sums(G) -> np.ndarray:

@@ -346,10 +346,11 @@ def _same_dim(a: ConvexSet, b: ConvexSet, what: str) -> None:
 
 
 def _as_dims(dims: Sequence[int], n: int) -> np.ndarray:
-    try:
-        idx = np.asarray(dims, dtype=int).reshape(-1)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"dims must be a sequence of integers, got {dims!r}") from exc
+    raw = np.asarray(dims).reshape(-1)
+    # np.asarray(..., dtype=int) would truncate 0.7 to 0 and read True as 1: refuse both.
+    if raw.size and (raw.dtype == bool or not np.issubdtype(raw.dtype, np.integer)):
+        raise TypeError(f"dims must be a sequence of integers, got {dims!r}")
+    idx = raw.astype(int)
     if idx.size == 0 or (idx < 0).any() or (idx >= n).any():
         raise ValueError(f"dims must be non-empty indices in [0, {n}), got {list(idx)}")
     return idx

@@ -7,7 +7,7 @@ from typing import Any
 import cvxpy as cp
 import numpy as np
 
-from .._validation import as_vector
+from .._validation import as_vector, check_rng
 from . import _matrices as mx
 from .base import ConvexSet
 
@@ -89,8 +89,10 @@ class Box(ConvexSet):
         with np.errstate(invalid="ignore"):
             terms = np.where(D == 0, 0.0, D * corner)
         values = terms.sum(axis=1)
-        mid = np.where(np.isfinite(self.lo) & np.isfinite(self.hi), (self.lo + self.hi) / 2,
-                       np.where(np.isfinite(self.lo), self.lo, np.where(np.isfinite(self.hi), self.hi, 0.0)))
+        with np.errstate(invalid="ignore"):  # −∞ + ∞ on free coordinates, replaced below
+            mid = np.where(np.isfinite(self.lo) & np.isfinite(self.hi), (self.lo + self.hi) / 2,
+                           np.where(np.isfinite(self.lo), self.lo,
+                                    np.where(np.isfinite(self.hi), self.hi, 0.0)))
         points = np.where(D > 0, self.hi, np.where(D < 0, self.lo, mid))
         points[~np.isfinite(values)] = np.nan
         return values, points
@@ -103,7 +105,7 @@ class Box(ConvexSet):
 
     def interval_hull(self, *, method: str = "auto", certified: bool = False) -> "Box":
         if self._check_method(method) == "generic":
-            return super().interval_hull(method=method)
+            return super().interval_hull(method=method, certified=certified)
         return self
 
     def _chebyshev_center(self) -> np.ndarray:
@@ -111,6 +113,7 @@ class Box(ConvexSet):
 
     def sample(self, rng: np.random.Generator, size: int = 1) -> np.ndarray:
         """Uniform samples, shape (size, dim)."""
+        check_rng(rng)
         if not self.is_bounded:
             raise ValueError("cannot sample uniformly from an unbounded box")
         return rng.uniform(self.lo, self.hi, size=(size, self.dim))
@@ -122,8 +125,9 @@ class Box(ConvexSet):
         finite = np.isfinite(self.lo) & np.isfinite(self.hi)
         if not np.all(free | finite):
             return None  # a half-line has no CZ form
-        radius = np.where(finite, (self.hi - self.lo) / 2, 1.0)
-        center = np.where(finite, (self.lo + self.hi) / 2, 0.0)
+        with np.errstate(invalid="ignore"):  # −∞ + ∞ on free coordinates, replaced by np.where
+            radius = np.where(finite, (self.hi - self.lo) / 2, 1.0)
+            center = np.where(finite, (self.lo + self.hi) / 2, 0.0)
         h = np.where(finite, 1.0, np.inf)
         return ConstrainedZonotope._trusted(np.diag(radius), center, np.zeros((0, self.dim)),
                                             np.zeros(0), h)

@@ -67,11 +67,14 @@ class ConstrainedZonotope(ConvexSet):
             raise ValueError("A and b must be given together")
         else:
             A = as_matrix(A, "A", cols=ng, allow_sparse=True)
-            b = as_vector(b, "b", A.shape[0]) if A.shape[0] else np.zeros(0)
+            b = as_vector(b, "b", A.shape[0])
         if h is None:
             h = np.ones(ng)
         else:
-            h = np.asarray(h, dtype=float).reshape(-1) if np.ndim(h) else np.full(ng, float(h))
+            try:
+                h = np.asarray(h, dtype=float).reshape(-1) if np.ndim(h) else np.full(ng, float(h))
+            except (TypeError, ValueError) as exc:
+                raise TypeError(f"h must be array-like of numbers, got {h!r}") from exc
             if h.shape != (ng,):
                 raise ValueError(f"h must have length ng = {ng}, got shape {h.shape}")
             if np.isnan(h).any() or (h < 0).any():

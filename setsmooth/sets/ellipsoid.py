@@ -9,7 +9,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import tolerances as tol
-from .._validation import as_matrix, as_vector
+from .._validation import as_matrix, as_vector, check_rng
 from . import _matrices as mx
 from .base import ConvexSet
 
@@ -66,11 +66,21 @@ class Ellipsoid(ConvexSet):
         return (V * np.sqrt(np.clip(w, 0.0, None))) @ V.T
 
     def constraints(self, x: cp.Expression) -> list[cp.Constraint]:
-        u = cp.Variable(self.dim)
-        return [x == self.root @ u + self.c, cp.norm(u, 2) <= 1]
+        # x = c + Lu, ‖u‖ ≤ 1 with a thin factor L (one column per eigenvalue above the rounding
+        # noise of Q): a u moving along the null space of a square root would leave x unchanged, a
+        # degeneracy on which the interior-point method stalls for flat ellipsoids.
+        w, V = np.linalg.eigh(self.Q)
+        keep = w > 10 * self.dim * np.finfo(float).eps * max(w.max(initial=0.0), 0.0)
+        if not keep.any():
+            return [x == self.c]
+        u = cp.Variable(int(keep.sum()))
+        return [x == (V[:, keep] * np.sqrt(w[keep])) @ u + self.c, cp.norm(u, 2) <= 1]
 
     def _support(self, D: np.ndarray, certified: bool):
         """h_E(d) = dᵀc + √(dᵀQd), attained at c + Qd/√(dᵀQd)."""
+        if certified:
+            # Not a CZ: no weak-duality certificate, as for every other non-flattenable set.
+            return super()._support(D, certified)
         QD = D @ self.Q
         s = np.sqrt(np.clip(np.einsum("ij,ij->i", QD, D), 0.0, None))
         values = D @ self.c + s
@@ -79,8 +89,8 @@ class Ellipsoid(ConvexSet):
         return values, points
 
     def interval_hull(self, *, method: str = "auto", certified: bool = False):
-        if self._check_method(method) == "generic":
-            return super().interval_hull(method=method)
+        if self._check_method(method) == "generic" or certified:
+            return super().interval_hull(method=method, certified=certified)
         from .box import Box
 
         r = np.sqrt(np.clip(np.diag(self.Q), 0.0, None))
@@ -94,6 +104,7 @@ class Ellipsoid(ConvexSet):
 
     def sample(self, rng: np.random.Generator, size: int = 1) -> np.ndarray:
         """Uniform samples: a uniform point of the unit ball mapped by Q^{1/2}."""
+        check_rng(rng)
         u = rng.standard_normal((size, self.dim))
         u /= np.linalg.norm(u, axis=1, keepdims=True)
         u *= rng.uniform(size=(size, 1)) ** (1.0 / self.dim)

@@ -38,9 +38,13 @@ class EmptySet(ConvexSet):
         return False
 
     def interval_hull(self, *, method: str = "auto", certified: bool = False) -> "EmptySet":
+        if self._check_method(method) == "generic" and certified:
+            return super().interval_hull(method=method, certified=certified)  # raises
         return self
 
     def center(self, method: str = "interval_hull", reference=None, norm=2) -> np.ndarray:
+        if method not in ("interval_hull", "chebyshev", "closest"):
+            return super().center(method)  # raises, naming the valid methods
         return np.full(self.dim, np.nan)
 
     def vertices_2d(self) -> np.ndarray:

@@ -6,6 +6,7 @@ from typing import Any
 
 import cvxpy as cp
 import numpy as np
+import scipy.linalg
 import scipy.sparse as sp
 
 from .._validation import as_matrix, as_vector
@@ -88,8 +89,9 @@ class HPolytope(ConvexSet):
         other = _as_hpolytope(other)
         if other is None:
             return NotImplemented
-        return HPolytope._trusted(mx.block_diag(self.H, other.H), np.concatenate([self.k, other.k]),
-                                  self.dim + other.dim)
+        # Dense like every H here (mx.block_diag would turn a large product sparse).
+        return HPolytope._trusted(scipy.linalg.block_diag(self.H, other.H),
+                                  np.concatenate([self.k, other.k]), self.dim + other.dim)
 
 
 def _as_hpolytope(S):

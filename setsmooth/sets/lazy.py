@@ -10,8 +10,23 @@ from __future__ import annotations
 
 import cvxpy as cp
 import numpy as np
+import scipy.sparse as sp
 
-from .base import ConvexSet
+from .._validation import as_matrix, as_vector
+from . import _matrices as mx
+from .base import ConvexSet, _same_dim
+
+
+def _operand(S, name: str) -> ConvexSet:
+    if not isinstance(S, ConvexSet):
+        raise TypeError(f"{name} must be a ConvexSet, got {type(S).__name__}")
+    return S
+
+
+def _frozen_matrix(M, name: str, rows: int | None, cols: int):
+    """A validated private copy of M (sets are immutable): read-only when dense."""
+    M = as_matrix(M, name, rows=rows, cols=cols, allow_sparse=True)  # copies a sparse M
+    return M if sp.issparse(M) else mx.readonly(M)
 
 
 def _sum_supports(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -26,10 +41,11 @@ class LinearMap(ConvexSet):
     """{M s + offset : s ∈ S} for a matrix M of shape (m, S.dim)."""
 
     def __init__(self, M, S: ConvexSet, offset=None):
-        self.M = M
-        self.S = S
-        self.dim = M.shape[0]
-        self.offset = np.zeros(self.dim) if offset is None else np.asarray(offset, dtype=float)
+        self.S = _operand(S, "S")
+        self.M = _frozen_matrix(M, "M", None, S.dim)
+        self.dim = self.M.shape[0]
+        self.offset = mx.readonly(np.zeros(self.dim) if offset is None
+                                  else as_vector(offset, "offset", self.dim))
 
     def constraints(self, x):
         s = cp.Variable(self.S.dim)
@@ -53,6 +69,7 @@ class MinkowskiSum(ConvexSet):
     """S ⊕ T."""
 
     def __init__(self, S: ConvexSet, T: ConvexSet):
+        _same_dim(_operand(S, "S"), _operand(T, "T"), "Minkowski sum")
         self.S, self.T, self.dim = S, T, S.dim
 
     def constraints(self, x):
@@ -78,7 +95,8 @@ class CartesianProduct(ConvexSet):
     """S × T ⊂ ℝ^{S.dim + T.dim}."""
 
     def __init__(self, S: ConvexSet, T: ConvexSet):
-        self.S, self.T, self.dim = S, T, S.dim + T.dim
+        self.S, self.T = _operand(S, "S"), _operand(T, "T")
+        self.dim = S.dim + T.dim
 
     def constraints(self, x):
         n = self.S.dim
@@ -94,7 +112,9 @@ class CartesianProduct(ConvexSet):
         n = self.S.dim
         va, pa = self.S._support_points(D[:, :n], "auto", certified)
         vb, pb = self.T._support_points(D[:, n:], "auto", certified)
-        return _sum_supports(va, vb), np.hstack([pa, pb])
+        values, points = _sum_supports(va, vb), np.hstack([pa, pb])
+        points[~np.isfinite(values)] = np.nan  # no maximizer, not even in one factor
+        return values, points
 
     def _is_empty(self):
         return self.S._is_empty() or self.T._is_empty()
@@ -104,6 +124,7 @@ class Intersection(ConvexSet):
     """S ∩ T."""
 
     def __init__(self, S: ConvexSet, T: ConvexSet):
+        _same_dim(_operand(S, "S"), _operand(T, "T"), "intersection")
         self.S, self.T, self.dim = S, T, S.dim
 
     def constraints(self, x):
@@ -118,7 +139,9 @@ class GeneralizedIntersection(ConvexSet):
     """{s ∈ S : R s ∈ Y} (smoothing paper (37) in any representation)."""
 
     def __init__(self, S: ConvexSet, R, Y: ConvexSet):
-        self.S, self.R, self.Y, self.dim = S, R, Y, S.dim
+        self.S, self.Y = _operand(S, "S"), _operand(Y, "Y")
+        self.R = _frozen_matrix(R, "R", Y.dim, S.dim)
+        self.dim = S.dim
 
     def constraints(self, x):
         return list(self.S.constraints(x)) + list(self.Y.constraints(self.R @ x))

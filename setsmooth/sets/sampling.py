@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._validation import check_rng
+
 
 def rejection_sample(S, rng: np.random.Generator, size: int = 1, max_tries: int = 200_000) -> np.ndarray:
     """Draw ``size`` points uniformly from the bounded set ``S``, shape (size, dim).
@@ -17,8 +19,7 @@ def rejection_sample(S, rng: np.random.Generator, size: int = 1, max_tries: int 
         For empty or unbounded sets, and when fewer than ``size`` proposals out of ``max_tries`` are
         accepted (a flat set has acceptance zero: sample its parametrization instead).
     """
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+    check_rng(rng)
     hull = S.interval_hull()
     if hull.is_empty():
         raise ValueError("cannot sample from an empty set")

@@ -6,6 +6,7 @@ from typing import Any
 
 import cvxpy as cp
 import numpy as np
+import scipy.linalg
 import scipy.sparse as sp
 
 from .._validation import as_matrix, as_vector
@@ -70,7 +71,7 @@ class Zonotope(ConvexSet):
     def interval_hull(self, *, method: str = "auto", certified: bool = False):
         """[c − r, c + r] with r = Σ_j |G_{:,j}| (no program)."""
         if self._check_method(method) == "generic":
-            return super().interval_hull(method=method)
+            return super().interval_hull(method=method, certified=certified)
         from .box import Box
 
         r = np.abs(self.G).sum(axis=1)
@@ -106,7 +107,9 @@ class Zonotope(ConvexSet):
         other = _as_zonotope(other)
         if other is None:
             return NotImplemented
-        return Zonotope._trusted(mx.block_diag(self.G, other.G), np.concatenate([self.c, other.c]))
+        # Dense like every G here (mx.block_diag would turn a large product sparse).
+        return Zonotope._trusted(scipy.linalg.block_diag(self.G, other.G),
+                                 np.concatenate([self.c, other.c]))
 
 
 def _as_zonotope(S):

@@ -1,0 +1,88 @@
+"""Exact polygons of 2-D sets (`vertices_2d`, `area`) and plotting."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+import setsmooth as ss  # noqa: E402
+from setsmooth.sets.polygon import polygon_area, vertices_2d  # noqa: E402
+
+
+def signed_area(v):
+    x, y = v[:, 0], v[:, 1]
+    return (np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))) / 2
+
+
+def same_vertices(a, b, atol=1e-7):
+    assert len(a) == len(b)
+    for p in b:
+        assert np.min(np.linalg.norm(a - p, axis=1)) <= atol
+
+
+def test_vertices_of_a_box_are_its_four_corners_counter_clockwise():
+    v = ss.Box([0, 0], [2, 1]).vertices_2d()
+    same_vertices(v, np.array([[0, 0], [2, 0], [2, 1], [0, 1]]))
+    assert signed_area(v) == pytest.approx(2.0)
+
+
+def test_vertices_of_a_triangle_given_by_halfspaces():
+    P = ss.HPolytope([[1.0, 1.0], [-1.0, 0.0], [0.0, -1.0]], [1.0, 0.0, 0.0])
+    same_vertices(P.vertices_2d(), np.array([[0, 0], [1, 0], [0, 1]]))
+
+
+def test_collinear_support_points_are_dropped():
+    # A zonotope with parallel generators is a parallelogram with 4 vertices, not 6.
+    Z = ss.Zonotope([[1.0, 2.0, 0.0], [0.0, 0.0, 1.0]], [0.0, 0.0])
+    same_vertices(Z.vertices_2d(), np.array([[-3, -1], [3, -1], [3, 1], [-3, 1]]))
+    assert Z.area() == pytest.approx(12.0)
+
+
+def test_a_point_and_a_segment_have_one_and_two_vertices_and_no_area():
+    point = ss.Zonotope(np.zeros((2, 0)), [1.0, 1.0])
+    segment = ss.Zonotope([[1.0], [1.0]], [0.0, 0.0])
+    assert point.vertices_2d().shape == (1, 2) and point.area() == 0.0
+    same_vertices(segment.vertices_2d(), np.array([[1, 1], [-1, -1]]))
+    assert segment.area() == 0.0
+
+
+def test_explicit_tolerance_and_vertex_cap_are_honoured():
+    E = ss.Ellipsoid([0.0, 0.0], np.eye(2))
+    coarse = vertices_2d(E, tol=1e-2)
+    fine = vertices_2d(E, max_vertices=64)
+    assert len(coarse) < len(fine) <= 128
+    assert polygon_area(coarse) < polygon_area(fine) < np.pi
+
+
+def test_shoelace_area_of_fewer_than_three_points_is_zero():
+    assert polygon_area(np.zeros((2, 2))) == 0.0
+    assert polygon_area(np.array([[0, 0], [1, 0], [0, 1]], dtype=float)) == 0.5
+
+
+def test_plot_returns_the_patch_and_draws_on_the_given_axes():
+    fig, ax = plt.subplots()
+    patch = ss.Box([0, 0], [1, 1]).plot(ax=ax, facecolor="red", label="box")
+    assert patch in ax.patches and patch.get_label() == "box"
+    assert patch.get_alpha() == 0.4
+    plt.close(fig)
+
+
+def test_plot_of_a_3d_set_draws_the_projection_onto_dims():
+    fig, ax = plt.subplots()
+    patch = ss.Box([0, 1, 2], [1, 3, 5]).plot(ax=ax, dims=(2, 0))
+    xy = patch.get_xy()
+    assert xy[:, 0].min() == pytest.approx(2.0) and xy[:, 0].max() == pytest.approx(5.0)
+    plt.close(fig)
+
+
+def test_plot_of_a_segment_is_a_line_and_of_the_empty_set_nothing():
+    fig, ax = plt.subplots()
+    line = ss.Zonotope([[1.0], [0.0]], [0.0, 0.0]).plot(ax=ax, color="k", facecolor="r")
+    assert line in ax.lines
+    assert ss.EmptySet(2).plot(ax=ax) is None
+    plt.close(fig)
