@@ -93,3 +93,15 @@ def check_dim(value: Any, name: str) -> int:
     if value < 1:
         raise ValueError(f"{name} must be a positive integer, got {value}")
     return int(value)
+
+
+def as_measurements(ys: Any, m: int) -> np.ndarray:
+    """Measurements y_0..y_T as a finite (T+1, m) array; a 1-D array is accepted when m = 1."""
+    arr = np.asarray(ys, dtype=float)
+    if arr.ndim == 1 and m == 1:
+        arr = arr.reshape(-1, 1)
+    if arr.ndim != 2 or arr.shape[1] != m or arr.shape[0] < 1:
+        raise ValueError(f"ys must have shape (T+1, m={m}), got {np.shape(ys)}")
+    if not np.isfinite(arr).all():
+        raise ValueError("ys contains NaN or inf")
+    return arr

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_vector
+from .._validation import as_measurements
 from ..sets.base import ConvexSet
 from ..sets.empty import EmptySet
 
@@ -40,7 +40,7 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, detect_empty: bool = Tru
         ``posteriors[k]`` = ⟦x_k | y_{0:k}⟧. An empty posterior means the measurements are
         inconsistent with the model (ill-posedness is data, not an exception).
     """
-    ys = _measurements(ys, system.m)
+    ys = as_measurements(ys, system.m)
     if not isinstance(X0, ConvexSet) or X0.dim != system.n:
         raise ValueError(f"X0 must be a ConvexSet of dimension n = {system.n}")
     minus_V = -system.V
@@ -65,14 +65,3 @@ def update(system, k: int, prior: ConvexSet, y: np.ndarray, minus_V: ConvexSet |
     """⟦x_k | y_{0:k}⟧ = prior ∩_{C_k} (y_k ⊕ D_k(−V)) (stability (4), CZ form (21))."""
     minus_V = -system.V if minus_V is None else minus_V
     return prior.intersect_preimage(system.C(k), system.D(k) @ minus_V + y)
-
-
-def _measurements(ys: Any, m: int) -> np.ndarray:
-    arr = np.asarray(ys, dtype=float)
-    if arr.ndim == 1 and m == 1:
-        arr = arr.reshape(-1, 1)
-    if arr.ndim != 2 or arr.shape[1] != m or arr.shape[0] < 1:
-        raise ValueError(f"ys must have shape (T+1, m={m}), got {np.shape(ys)}")
-    if not np.isfinite(arr).all():
-        raise ValueError("ys contains NaN or inf")
-    return arr

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_matrix, as_vector, check_dim
+from .._validation import as_matrix, as_measurements, as_vector, check_dim
 
 
 @dataclass(frozen=True)
@@ -179,13 +179,7 @@ def _validate(system: Any, ys: Any, x0_mean: Any, P0: Any) -> tuple[int, np.ndar
             raise TypeError(f"system must provide a method {attr}(k); got {type(system).__name__}")
     n = check_dim(getattr(system, "n", None), "system.n")
     m = _mat(system.C(0), "C(0)", None, n).shape[0]
-    arr = np.asarray(ys, dtype=float)
-    if arr.ndim == 1 and m == 1:
-        arr = arr.reshape(-1, 1)
-    if arr.ndim != 2 or arr.shape[1] != m or arr.shape[0] < 1:
-        raise ValueError(f"ys must have shape (T+1, m={m}), got {np.shape(ys)}")
-    if not np.isfinite(arr).all():
-        raise ValueError("ys contains NaN or inf")
+    arr = as_measurements(ys, m)
     mean = as_vector(x0_mean, "x0_mean", n)
     P = _covariance(P0, "P0", n)
     return n, arr, mean, P

@@ -20,7 +20,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..filters.classical import _measurements, classical_filter
+from .._validation import as_measurements
+from ..filters.classical import classical_filter
 from ..sets.base import ConvexSet
 from ..sets.empty import EmptySet
 from .trajectory import trajectory_set
@@ -52,7 +53,7 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "recursion
     """
     if method not in _METHODS:
         raise ValueError(f"method must be one of {_METHODS}, got {method!r}")
-    ys = _measurements(ys, system.m)
+    ys = as_measurements(ys, system.m)
     if method == "trajectory":
         return smoothed_ranges_from_trajectories(trajectory_set(system, X0, ys), system.n)
     if posteriors is None:

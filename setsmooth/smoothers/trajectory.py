@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from ..filters.classical import _measurements
+from .._validation import as_measurements
 from ..sets.base import ConvexSet
 from ..sets.constrained_zonotope import ConstrainedZonotope
 
@@ -49,7 +49,7 @@ def trajectory_set(system, X0: ConvexSet, ys: Any) -> ConstrainedZonotope:
     TypeError
         If X0, W or V has no exact constrained-zonotope form.
     """
-    ys = _measurements(ys, system.m)
+    ys = as_measurements(ys, system.m)
     if not isinstance(X0, ConvexSet) or X0.dim != system.n:
         raise ValueError(f"X0 must be a ConvexSet of dimension n = {system.n}")
     Z0 = X0.to_constrained_zonotope()
