@@ -164,9 +164,9 @@ def _zero_cost(n: int) -> sp.csc_matrix:
                          shape=(n, n))
 
 
-#: Directions are stacked into one LP while the stacked program has at most this many variables;
-#: beyond it one LP per direction is faster (measured: 6 directions × 4208 factors take 0.47 s
-#: stacked and 6 × 0.043 s one by one in Clarabel).
+#: The recession programs that decide unbounded directions stack their objectives into one LP while
+#: it has at most this many variables, and go one objective at a time beyond (support LPs are never
+#: stacked: one LP per direction on a shared Clarabel instance measured faster).
 STACK_MAX_VARIABLES = 3000
 
 

@@ -135,14 +135,6 @@ def test_a_support_call_records_clarabels_solve_time():
     assert Z._program.last_solve_time > 0.0
 
 
-def test_a_large_program_gives_the_same_values_as_a_small_one(monkeypatch):
-    Z = nontrivial_cz(seed=3)
-    D = np.vstack([np.eye(3), -np.eye(3)])
-    expected = Z.support_many(D)
-    monkeypatch.setattr(solvers, "STACK_MAX_VARIABLES", 1)
-    np.testing.assert_allclose(nontrivial_cz(seed=3).support_many(D), expected, atol=1e-8)
-
-
 # -- the generic path ------------------------------------------------------------------------------
 
 def test_the_generic_program_is_compiled_once_and_reused():
