@@ -23,7 +23,6 @@ from typing import Any
 from .._validation import as_measurements
 from ..filters.classical import classical_filter
 from ..sets.base import ConvexSet
-from ..sets.empty import EmptySet
 from .trajectory import trajectory_set
 
 _METHODS = ("recursion", "trajectory")
@@ -76,8 +75,7 @@ def smooth(system, posteriors: list[ConvexSet]) -> list[ConvexSet]:
 def smoothing_step(system, k: int, posterior: ConvexSet, next_smoothed: ConvexSet,
                    minus_W: ConvexSet | None = None) -> ConvexSet:
     """⟦x_k | y_{0:T}⟧ from ⟦x_k | y_{0:k}⟧ and ⟦x_{k+1} | y_{0:T}⟧ (smoothing (15)/(25); CZ: (24))."""
-    if isinstance(next_smoothed, EmptySet):
-        return EmptySet(posterior.dim)
+    # An empty next_smoothed needs no case here: the set algebra absorbs the empty set.
     minus_W = -system.W if minus_W is None else minus_W
     reachable_from = next_smoothed + system.B(k) @ minus_W - system.input_term(k)
     return posterior.intersect_preimage(system.A(k), reachable_from)
