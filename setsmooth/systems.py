@@ -196,9 +196,11 @@ class NonlinearSystem:
         self.f, self.g, self.W, self.V, self.n = f, g, W, V, int(n)
 
     def step(self, k: int, x: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """x_{k+1} = f(k, x_k, w_k) for a realized process noise (smoothing paper (4))."""
         return np.asarray(self.f(k, x, w), dtype=float).reshape(self.n)
 
     def measure(self, k: int, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """y_k = g(k, x_k, v_k) for a realized measurement noise (smoothing paper (5))."""
         return np.atleast_1d(np.asarray(self.g(k, x, v), dtype=float))
 
 
