@@ -21,7 +21,7 @@ def nontrivial_cz(seed=0, ng=8, nc=3):
 
 
 def patched_settings(monkeypatch, **overrides):
-    original = solvers._settings
+    original = solvers.clarabel_lp.settings
 
     def settings(**kwargs):
         s = original(**kwargs)
@@ -29,7 +29,7 @@ def patched_settings(monkeypatch, **overrides):
             setattr(s, name, value)
         return s
 
-    monkeypatch.setattr(solvers, "_settings", settings)
+    monkeypatch.setattr(solvers.clarabel_lp, "settings", settings)
 
 
 # -- status policy ---------------------------------------------------------------------------------

@@ -1,167 +1,37 @@
-"""Every convex program in setsmooth is solved here, along one of two paths.
+"""The fast path: the factor set {ξ : Aξ = b, |ξ| ≤ h} of a constrained zonotope and its support LPs.
 
-* The **generic path** states a set's membership with CVXPY (``ConvexSet.constraints``) and maximizes
-  ``dᵀx`` with the direction as a ``cp.Parameter``: the problem is compiled once per set and re-solved
-  for every direction. It works for any set and is the reference the closed forms are tested against.
-* The **fast path** for constrained zonotopes Z(G, c, A, b, h) substitutes ``x = Gξ + c`` out and
-  hands Clarabel the linear program
+The fast path for constrained zonotopes Z(G, c, A, b, h) substitutes ``x = Gξ + c`` out and hands
+Clarabel the linear program
 
-      maximize (Gᵀd)ᵀξ   subject to   Aξ = b,  -h ≤ ξ ≤ h   (rows with infinite h omitted)
+    maximize (Gᵀd)ᵀξ   subject to   Aξ = b,  -h ≤ ξ ≤ h   (rows with infinite h omitted)
 
-  as sparse matrices. The factor set {ξ : Aξ = b, |ξ| ≤ h} is set up in Clarabel once (equilibration,
-  KKT assembly, symbolic factorization) and every direction only replaces the objective. One LP per
-  direction on that instance measured faster than stacking the directions block-diagonally into one
-  LP, whose single step length holds every block back (1.6× at ng = 100, nc = 40, 20 directions).
+as sparse matrices. The factor set is set up in Clarabel once (equilibration, KKT assembly, symbolic
+factorization) and every direction only replaces the objective. One LP per direction on that instance
+measured faster than stacking the directions block-diagonally into one LP, whose single step length
+holds every block back (1.6× at ng = 100, nc = 40, 20 directions).
 
-Status policy: a solved LP gives a value, an infeasible one means the set is empty (``-inf``), a dual
-infeasible one means the support is unbounded (``+inf``); any other status raises `SolverError`
-carrying it. A reduced-accuracy status is accepted only where the returned number is a weak-duality
-bound that is valid whatever the solver's accuracy (``certified=True``), or verified to
-``SOLVER_CHECK_TOL`` (by us on the fast path, by Clarabel's reduced tolerances on the generic path).
+A reduced-accuracy status is accepted only where the returned number is a weak-duality bound that is
+valid whatever the solver's accuracy (``certified=True``), or verified by us to ``SOLVER_CHECK_TOL``.
 
 Unbounded directions are not left to the solver's dual-infeasibility detection, which stalls or even
-reports an arbitrary 'optimum' on LPs with free variables: with free factors (h = ∞) or a recession
-direction, boundedness is decided by a recession program, which is feasible and bounded.
+reports an arbitrary 'optimum' on LPs with free variables: with free factors (h = ∞), boundedness is
+decided by a recession program, which is feasible and bounded.
 """
 
 from __future__ import annotations
 
 import time
-import warnings
-from dataclasses import dataclass
-from functools import lru_cache
-from typing import TYPE_CHECKING
 
 import clarabel
-import cvxpy as cp
 import numpy as np
 import scipy.sparse as sp
 
-from . import tolerances as tol
+from .. import tolerances as tol
+from . import clarabel_lp
+from .clarabel_lp import (_ALMOST_SOLVED, LPSolution, SolverError, _csc, _index_type, _lp_solution,
+                          _zero_cost, solve_lp)
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .sets.base import ConvexSet
-
-__all__ = ["SolverError", "FactorConstraints", "CZProgram", "GenericProgram"]
-
-
-class SolverError(RuntimeError):
-    """A convex program ended in a status that yields no trustworthy answer.
-
-    Attributes
-    ----------
-    status : str
-        The solver's status (Clarabel's ``SolverStatus`` name or CVXPY's status string).
-    """
-
-    def __init__(self, status: str, context: str = ""):
-        self.status = str(status)
-        where = f" while {context}" if context else ""
-        super().__init__(f"solver returned status {self.status!r}{where}")
-
-
-# --------------------------------------------------------------------------------------------------
-# Clarabel, directly
-# --------------------------------------------------------------------------------------------------
-
-_SOLVED = "Solved"
-_ALMOST_SOLVED = "AlmostSolved"
-_INFEASIBLE = ("PrimalInfeasible",)
-_UNBOUNDED = ("DualInfeasible",)
-
-
-def _settings(*, refine: bool = False) -> clarabel.DefaultSettings:
-    """Clarabel's settings; ``refine`` turns iterative refinement back on (membership programs)."""
-    settings = clarabel.DefaultSettings()
-    settings.verbose = False
-    settings.direct_solve_method = "qdldl"
-    # Iterative refinement of the KKT solves takes ~40% of Clarabel's time on CZ support LPs
-    # (measured at ng = 100, nc = 40) and did not change any support value beyond 1e-12 on 1,300
-    # random, vertex-degenerate, badly scaled and filter-generated CZ LPs checked against HiGHS; with
-    # it on, two of the badly scaled ones stalled (InsufficientProgress). Tolerances are unchanged.
-    settings.iterative_refinement_enable = refine
-    settings.tol_gap_abs = tol.SOLVER_TOL
-    settings.tol_gap_rel = tol.SOLVER_TOL
-    settings.tol_feas = tol.SOLVER_TOL
-    settings.max_iter = 200
-    return settings
-
-
-@dataclass(frozen=True)
-class LPSolution:
-    """What one Clarabel call returned: ``status`` in {'optimal', 'inaccurate', 'infeasible',
-    'unbounded'}, the primal ``x``, the equality multipliers ``z_eq`` and Clarabel's ``solve_time``."""
-
-    status: str
-    x: np.ndarray
-    z_eq: np.ndarray
-    solve_time: float
-
-
-def solve_lp(q: np.ndarray, A: sp.csc_matrix, b: np.ndarray, n_eq: int, n_ineq: int,
-             context: str, refine: bool = False) -> LPSolution:
-    """Minimize ``qᵀx`` subject to the first ``n_eq`` rows of ``Ax = b`` and the rest ``Ax ≤ b``
-    (``refine``: with Clarabel's iterative refinement, see `_settings`)."""
-    cones = []
-    if n_eq:
-        cones.append(clarabel.ZeroConeT(n_eq))
-    if n_ineq:
-        cones.append(clarabel.NonnegativeConeT(n_ineq))
-    nvar = q.shape[0]
-    if not cones:  # no constraint at all: bounded only for q == 0
-        x = np.zeros(nvar)
-        status = "optimal" if not np.any(q) else "unbounded"
-        return LPSolution(status, x, np.zeros(0), 0.0)
-    solver = clarabel.DefaultSolver(_zero_cost(nvar), q, A, b, cones, _settings(refine=refine))
-    return _lp_solution(solver.solve(), n_eq, context)
-
-
-def _lp_solution(sol, n_eq: int, context: str, solve_time: float | None = None) -> LPSolution:
-    """Translate a Clarabel solution into an `LPSolution` (status policy in the module docstring);
-    ``solve_time`` replaces Clarabel's own when given."""
-    name = str(sol.status).split(".")[-1]
-    if name == _SOLVED:
-        status = "optimal"
-    elif name == _ALMOST_SOLVED:
-        status = "inaccurate"
-    elif name in _INFEASIBLE:
-        status = "infeasible"
-    elif name in _UNBOUNDED:
-        status = "unbounded"
-    else:
-        raise SolverError(name, context)
-    return LPSolution(status, np.asarray(sol.x), np.asarray(sol.z)[:n_eq],
-                      float(sol.solve_time) if solve_time is None else solve_time)
-
-
-def _csc(M) -> sp.csc_matrix:
-    """M as a canonical CSC matrix (sorted, unique row indices), built directly from a dense array:
-    scipy's generic conversion costs as much as Clarabel's whole solve of a small CZ."""
-    if sp.issparse(M):
-        M = sp.csc_matrix(M)
-        if not M.has_canonical_format:
-            M = M.copy()
-            M.sum_duplicates()
-        return M
-    M = np.asarray(M, dtype=float)
-    cols, rows = np.nonzero(M.T)
-    itype = _index_type(M.size)
-    indptr = np.zeros(M.shape[1] + 1, dtype=itype)
-    np.cumsum(np.bincount(cols, minlength=M.shape[1]), out=indptr[1:])
-    return sp.csc_matrix((M[rows, cols], rows.astype(itype), indptr), shape=M.shape)
-
-
-def _index_type(largest: int) -> type:
-    # scipy stores indices as int32 when they fit and checks (costly) whatever it is given.
-    return np.int32 if largest < np.iinfo(np.int32).max else np.int64
-
-
-@lru_cache(maxsize=64)
-def _zero_cost(n: int) -> sp.csc_matrix:
-    """The zero quadratic cost of an LP with n variables (shared: Clarabel copies its input)."""
-    itype = _index_type(n)
-    return sp.csc_matrix((np.zeros(0), np.zeros(0, dtype=itype), np.zeros(n + 1, dtype=itype)),
-                         shape=(n, n))
+__all__ = ["FactorConstraints", "CZProgram", "STACK_MAX_VARIABLES"]
 
 
 #: The recession programs that decide unbounded directions stack their objectives into one LP while
@@ -258,7 +128,8 @@ class FactorConstraints:
             cones = [clarabel.ZeroConeT(self.nc)] if self.nc else []
             if nf:
                 cones.append(clarabel.NonnegativeConeT(2 * nf))
-            self._solver = clarabel.DefaultSolver(_zero_cost(self.ng), q, M, rhs, cones, _settings())
+            self._solver = clarabel.DefaultSolver(_zero_cost(self.ng), q, M, rhs, cones,
+                                                   clarabel_lp.settings())
             return _lp_solution(self._solver.solve(), self.nc, context)
         self._solver.update(q=q)
         start = time.perf_counter()
@@ -515,196 +386,3 @@ class CZProgram:
         scale = max(np.abs(p).max(initial=0.0), np.abs(self.c).max(initial=0.0),
                     np.abs(self.b).max(initial=0.0))
         return bool(sol.x[-1] <= margin + tol.scaled(tol.SOLVER_TOL, scale))
-
-
-# --------------------------------------------------------------------------------------------------
-# CVXPY, for any set
-# --------------------------------------------------------------------------------------------------
-
-# Clarabel's reduced-accuracy verdict ('AlmostSolved', CVXPY's optimal_inaccurate) is asked to mean
-# residuals and gap within SOLVER_CHECK_TOL, the accuracy to which the fast path verifies such answers,
-# so it is accepted. Second-order cones of flat sets (degenerate ellipsoids) often stall at a primal
-# residual of a few 1e-9, just above SOLVER_TOL, after the gap has closed.
-_CVXPY_OK = {cp.OPTIMAL, cp.OPTIMAL_INACCURATE}
-_CVXPY_INFEASIBLE = {cp.INFEASIBLE}
-_CVXPY_UNBOUNDED = {cp.UNBOUNDED}
-
-
-def _solve_cvxpy(problem: cp.Problem, context: str) -> str:
-    try:
-        with warnings.catch_warnings():
-            # An inaccurate status is reported by the status policy below, not by a warning.
-            warnings.filterwarnings("ignore", message="Solution may be inaccurate")
-            problem.solve(solver=cp.CLARABEL, tol_gap_abs=tol.SOLVER_TOL,
-                          tol_gap_rel=tol.SOLVER_TOL, tol_feas=tol.SOLVER_TOL,
-                          reduced_tol_gap_abs=tol.SOLVER_CHECK_TOL,
-                          reduced_tol_gap_rel=tol.SOLVER_CHECK_TOL,
-                          reduced_tol_feas=tol.SOLVER_CHECK_TOL)
-    except cp.error.SolverError as exc:
-        raise SolverError("solver_error", f"{context}: {exc}") from exc
-    status = problem.status
-    if status in _CVXPY_OK:
-        return "optimal"
-    if status in _CVXPY_INFEASIBLE:
-        return "infeasible"
-    if status in _CVXPY_UNBOUNDED:
-        return "unbounded"
-    raise SolverError(status, context)
-
-
-class GenericProgram:
-    """The CVXPY support-function problem of one set, compiled once, re-solved per direction.
-
-    Parameters
-    ----------
-    convex_set : ConvexSet
-        Any set; only its ``constraints(x)`` is used.
-    """
-
-    def __init__(self, convex_set: "ConvexSet"):
-        self.dim = convex_set.dim
-        self.x = cp.Variable(self.dim)
-        self.d = cp.Parameter(self.dim)
-        self.constraints = list(convex_set.constraints(self.x))
-        self.problem = cp.Problem(cp.Maximize(self.d @ self.x), self.constraints)
-        self._empty: bool | None = None
-        self._recession: bool | None = None
-
-    def support(self, D: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Support values and points for every row of ``D`` (see `CZProgram.support`).
-
-        Interior-point solvers do not reliably certify an unbounded direction: they may stall, or
-        even report an arbitrary finite optimum. So on a set that has a recession direction (decided
-        once, `_has_recession`), every direction is checked by its recession gain as well.
-        """
-        k = D.shape[0]
-        values = np.empty(k)
-        points = np.full((k, self.dim), np.nan)
-        for i, d in enumerate(D):
-            self.d.value = d
-            try:
-                status = _solve_cvxpy(self.problem, "computing a support function (generic path)")
-            except SolverError:
-                if self.is_empty():
-                    return np.full(k, -np.inf), np.full((k, self.dim), np.nan)
-                if not (self._has_recession() and self._improves_along_a_ray()):
-                    raise
-                status = "unbounded"
-            if status == "optimal" and self._has_recession() and self._improves_along_a_ray():
-                status = "unbounded"
-            if status == "infeasible":
-                self._empty = True
-                return np.full(k, -np.inf), np.full((k, self.dim), np.nan)
-            if status == "unbounded":
-                # As for the fast path, an unbounded report does not prove feasibility.
-                if self.is_empty():
-                    return np.full(k, -np.inf), np.full((k, self.dim), np.nan)
-                values[i] = np.inf
-                continue
-            points[i] = self.x.value
-            values[i] = float(self.problem.value)
-        return values, points
-
-    # -- recession directions ------------------------------------------------------------------------
-    # In Clarabel's conic form of the problem (minimize cᵀz subject to Az + s = b, s ∈ K, where z
-    # stacks x and CVXPY's auxiliary variables) the recession directions are {z : Az + s = 0, s ∈ K}.
-    # The gain max{−cᵀz : Az + s = 0, s ∈ K, ‖z‖∞ ≤ 1} is positive when the objective improves along
-    # one. That program is feasible (z = 0) and bounded, so the solver decides it reliably.
-
-    def _conic_form(self):
-        """(c, A, cones) of the problem for the current direction, or None with variable bounds."""
-        from cvxpy.reductions.solvers.conic_solvers.clarabel_conif import dims_to_solver_cones
-
-        data, _, _ = self.problem.get_problem_data(cp.CLARABEL)
-        if data.get("lower_bounds") is not None or data.get("upper_bounds") is not None:
-            return None  # bounds live outside A; such problems are left undecided
-        return (np.asarray(data["c"], dtype=float), sp.csc_matrix(data["A"]),
-                dims_to_solver_cones(data["dims"]))
-
-    def _recession_gains(self, C: np.ndarray, A: sp.csc_matrix, cones: list) -> np.ndarray | None:
-        """The gain of every row of ``C`` (objectives), as one stacked program; None if unsolved."""
-        k, nz = C.shape
-        eye = sp.identity(k, format="csc")
-        rows = sp.vstack([sp.kron(eye, A), sp.identity(k * nz), -sp.identity(k * nz)],
-                         format="csc")
-        rhs = np.concatenate([np.zeros(k * A.shape[0]), np.ones(2 * k * nz)])
-        sol = clarabel.DefaultSolver(sp.csc_matrix((k * nz, k * nz)), C.reshape(-1), rows, rhs,
-                                     cones * k + [clarabel.NonnegativeConeT(2 * k * nz)],
-                                     _settings()).solve()
-        if str(sol.status).split(".")[-1] != _SOLVED:
-            return None
-        return -np.einsum("ij,ij->i", C, np.asarray(sol.x).reshape(k, nz))
-
-    @staticmethod
-    def _positive(gains: np.ndarray, C: np.ndarray) -> np.ndarray:
-        return gains > tol.REDUCED_COST_TOL * (1.0 + np.abs(C).max(axis=1, initial=0.0))
-
-    def _has_recession(self) -> bool:
-        """Whether the constraints admit a recession direction moving x (cached; True if undecided)."""
-        if self._recession is None:
-            saved = self.d.value
-            objectives = []
-            for d in np.vstack([np.eye(self.dim), -np.eye(self.dim)]):
-                self.d.value = d
-                form = self._conic_form()
-                if form is None:
-                    break
-                objectives.append(form[0])
-            self.d.value = saved
-            gains = None if form is None else self._recession_gains(np.array(objectives), *form[1:])
-            self._recession = gains is None or bool(self._positive(gains, np.array(objectives)).any())
-        return self._recession
-
-    def _improves_along_a_ray(self) -> bool:
-        """Whether the current direction's objective has a positive recession gain (False if
-        undecided)."""
-        form = self._conic_form()
-        if form is None:
-            return False
-        c = form[0][None, :]
-        gains = self._recession_gains(c, *form[1:])
-        return gains is not None and bool(self._positive(gains, c)[0])
-
-    def is_empty(self) -> bool:
-        """Feasibility of the set's constraints."""
-        if self._empty is None:
-            problem = cp.Problem(cp.Minimize(0), self.constraints)
-            self._empty = _solve_cvxpy(problem, "deciding emptiness (generic path)") == "infeasible"
-        return self._empty
-
-    def contains(self, p: np.ndarray, margin: float) -> bool:
-        """Whether a member lies within ∞-distance ``margin`` of ``p``."""
-        # The distance program with the row t ≥ margin, as in CZProgram.contains: without that row 11
-        # in 2,000 membership programs of flat sets (degenerate ellipsoid ∩ subspace) stalled.
-        t = cp.Variable()
-        problem = cp.Problem(cp.Minimize(t), self.constraints + [cp.norm(self.x - p, "inf") <= t,
-                                                                 t >= margin])
-        if _solve_cvxpy(problem, "deciding membership (generic path)") == "infeasible":
-            return False
-        return bool(t.value <= margin + tol.scaled(tol.SOLVER_TOL, np.abs(p).max(initial=0.0)))
-
-    def closest_point(self, reference: np.ndarray, norm: float | str) -> np.ndarray | None:
-        """A member minimizing ``‖x − reference‖`` (None for an empty set)."""
-        problem = cp.Problem(cp.Minimize(cp.norm(self.x - reference, norm)), self.constraints)
-        status = _solve_cvxpy(problem, "finding the closest point (generic path)")
-        if status == "infeasible":
-            return None
-        return np.asarray(self.x.value, dtype=float)
-
-
-def chebyshev_ball(H: np.ndarray, k: np.ndarray) -> tuple[np.ndarray, float]:
-    """Centre and radius of the largest Euclidean ball inside {x : Hx ≤ k}.
-
-    Returns a NaN centre and radius ``-inf`` for an empty polyhedron; raises ``ValueError`` when the
-    inscribed radius is unbounded.
-    """
-    n = H.shape[1]
-    x, r = cp.Variable(n), cp.Variable()
-    norms = np.linalg.norm(H, axis=1)
-    problem = cp.Problem(cp.Maximize(r), [H @ x + r * norms <= k, r >= 0])
-    status = _solve_cvxpy(problem, "computing a Chebyshev centre")
-    if status == "infeasible":
-        return np.full(n, np.nan), -np.inf
-    if status == "unbounded":
-        raise ValueError("the polyhedron contains balls of every radius; it has no Chebyshev centre")
-    return np.asarray(x.value, dtype=float), float(r.value)
