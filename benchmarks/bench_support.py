@@ -9,7 +9,7 @@ support functions h_Z(±e_i), side by side in one run:
                 the solve_time it reports for the first, set-up included, plus the duration of
                 each re-solve call on the same instance (whose reported solve_time re-counts the
                 set-up)
-  generic       ``Z.interval_hull(method="generic")`` through CVXPY: "cold" on a fresh object (CVXPY
+  generic       ``Z.interval_hull(path="generic")`` through CVXPY: "cold" on a fresh object (CVXPY
                 compiles the problem once), "warm" re-solving the compiled problem
   zonoopt       ZonoOpt's ``ConZono.bounding_box()`` at its default settings, when ``zonoopt`` is
                 installed (``pip install zonoopt``; not a setsmooth dependency)
@@ -83,7 +83,7 @@ def measure(size, repeats: int, rng: np.random.Generator) -> Row:
     fast, fast_warm, clarabel, cold, warm, zono = ([] for _ in range(6))
     if size in SMALL:  # warm the interpreter's and libraries' first-call paths (not the sets)
         ss.ConstrainedZonotope(G, c, A, b).interval_hull()
-        ss.ConstrainedZonotope(G, c, A, b).interval_hull(method="generic")
+        ss.ConstrainedZonotope(G, c, A, b).interval_hull(path="generic")
     for _ in range(repeats):
         Z = ss.ConstrainedZonotope(G, c, A, b)  # fresh: nothing assembled, set up or cached yet
         seconds, ours = timed(Z.interval_hull)
@@ -92,9 +92,9 @@ def measure(size, repeats: int, rng: np.random.Generator) -> Row:
         fast_warm.append(timed(Z.interval_hull)[0])
     for _ in range(repeats):
         Z = ss.ConstrainedZonotope(G, c, A, b)
-        seconds, generic = timed(lambda: Z.interval_hull(method="generic"))
+        seconds, generic = timed(lambda: Z.interval_hull(path="generic"))
         cold.append(seconds)
-        warm.append(timed(lambda: Z.interval_hull(method="generic"))[0])
+        warm.append(timed(lambda: Z.interval_hull(path="generic"))[0])
     row = Row(size, repeats, *(float(np.median(t)) for t in (fast, fast_warm, clarabel, cold, warm)),
               generic_error=box_error(generic.lo, generic.hi, ours))
     if zonoopt is not None:
@@ -117,8 +117,8 @@ def closed_form_vs_lp(rng: np.random.Generator, n: int = 10, ng: int = 100, repe
         for _ in range(loops):
             box = Z.interval_hull()
         closed.append((time.perf_counter() - start) / loops)
-    Z.interval_hull(method="generic")  # compile once: time the LP re-solves only
-    lp = [timed(lambda: Z.interval_hull(method="generic")) for _ in range(max(3, repeats // 3))]
+    Z.interval_hull(path="generic")  # compile once: time the LP re-solves only
+    lp = [timed(lambda: Z.interval_hull(path="generic")) for _ in range(max(3, repeats // 3))]
     error = box_error(lp[-1][1].lo, lp[-1][1].hi, box)
     return float(np.median(closed)), float(np.median([t for t, _ in lp])), error
 

@@ -57,7 +57,7 @@ def test_a_generic_program_ending_in_an_unknown_status_raises_solver_error(monke
     E = ss.Ellipsoid([0.0, 0.0], np.eye(2))
     monkeypatch.setattr(cp.Problem, "solve", stopped)
     with pytest.raises(ss.SolverError) as info:
-        E.support([1.0, 0.0], method="generic")
+        E.support([1.0, 0.0], path="generic")
     assert info.value.status == cp.USER_LIMIT
     assert "generic path" in str(info.value)
 
@@ -140,8 +140,8 @@ def test_a_support_call_records_clarabels_solve_time():
 def test_the_generic_program_is_compiled_once_and_reused():
     E = ss.Ellipsoid([0.0, 0.0], np.eye(2)) & ss.Box([-0.5, -2], [0.5, 2])
     program = E._generic
-    E.support_many(np.eye(2), method="generic")
-    E.support([1.0, 1.0], method="generic")
+    E.support_many(np.eye(2), path="generic")
+    E.support([1.0, 1.0], path="generic")
     assert E._generic is program
 
 
@@ -149,7 +149,7 @@ def test_generic_program_detects_unbounded_directions_of_a_strip_with_a_ball():
     strip = ss.Reals(2).intersect_preimage([[1.0, 0.0]], ss.Box([0.0], [1.0]))
     S = ss.Ellipsoid([0.0, 0.0], np.eye(2)) + strip
     assert isinstance(S, ss.MinkowskiSum)
-    values = S.support_many(np.array([[1.0, 0.0], [0.0, 1.0], [0.0, -1.0]]), method="generic")
+    values = S.support_many(np.array([[1.0, 0.0], [0.0, 1.0], [0.0, -1.0]]), path="generic")
     assert values[0] == pytest.approx(2.0, abs=1e-6)
     assert values[1:].tolist() == [np.inf, np.inf]
 

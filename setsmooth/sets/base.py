@@ -23,7 +23,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from .box import Box
     from .constrained_zonotope import ConstrainedZonotope
 
-_METHODS = ("auto", "generic")
+#: The solver paths a query can take: the closed form or fast path ('auto'), or CVXPY ('generic').
+_PATHS = ("auto", "generic")
 
 
 class ConvexSet(ABC):
@@ -49,15 +50,15 @@ class ConvexSet(ABC):
         """CVXPY constraints stating ``x ∈ self`` for an affine expression ``x`` of shape (dim,)."""
 
     # -- support functions ---------------------------------------------------------------------------
-    def support(self, d: Any, *, method: str = "auto", certified: bool = False) -> float:
+    def support(self, d: Any, *, path: str = "auto", certified: bool = False) -> float:
         """Support function h_S(d) = sup_{x∈S} dᵀx.
 
         Parameters
         ----------
         d : array_like, shape (dim,)
             Direction.
-        method : {'auto', 'generic'}
-            'auto' uses the representation's closed form or fast path; 'generic' forces the CVXPY path.
+        path : {'auto', 'generic'}
+            The solver path: 'auto' uses the representation's closed form or fast path; 'generic' forces the CVXPY path.
         certified : bool
             Return a value proven to be ≥ the exact support (weak duality), whatever the solver's
             accuracy. Available for sets that flatten to a constrained zonotope.
@@ -68,24 +69,24 @@ class ConvexSet(ABC):
             ``+inf`` along unbounded directions, ``-inf`` for an empty set.
         """
         d = as_vector(d, "d", self.dim)
-        return float(self.support_many(d[None, :], method=method, certified=certified)[0])
+        return float(self.support_many(d[None, :], path=path, certified=certified)[0])
 
-    def support_many(self, D: Any, *, method: str = "auto", certified: bool = False) -> np.ndarray:
+    def support_many(self, D: Any, *, path: str = "auto", certified: bool = False) -> np.ndarray:
         """Support values for every row of ``D`` (shape (k, dim)); see `support`."""
         D = as_directions(D, self.dim)
-        return self._support_points(D, self._check_method(method), certified)[0]
+        return self._support_points(D, self._check_path(path), certified)[0]
 
-    def support_point(self, d: Any, *, method: str = "auto") -> np.ndarray:
+    def support_point(self, d: Any, *, path: str = "auto") -> np.ndarray:
         """A maximizer of dᵀx over the set (NaN entries when the support is infinite)."""
         d = as_vector(d, "d", self.dim)
-        return self._support_points(d[None, :], self._check_method(method), False)[1][0]
+        return self._support_points(d[None, :], self._check_path(path), False)[1][0]
 
-    def _support_points(self, D: np.ndarray, method: str, certified: bool):
+    def _support_points(self, D: np.ndarray, path: str, certified: bool):
         """Values and points, trusted arguments. Dispatches to the fast hook unless told otherwise."""
-        if method == "generic":
+        if path == "generic":
             if certified:
                 raise ValueError("certified=True needs the constrained-zonotope fast path; "
-                                 "method='generic' cannot certify its values")
+                                 "path='generic' cannot certify its values")
             return self._generic.support(D)
         return self._support(D, certified)
 
@@ -125,9 +126,9 @@ class ConvexSet(ABC):
         return cz
 
     # -- emptiness and membership --------------------------------------------------------------------
-    def is_empty(self, *, method: str = "auto") -> bool:
+    def is_empty(self, *, path: str = "auto") -> bool:
         """Whether the set has no point (a feasibility program)."""
-        if self._check_method(method) == "generic":
+        if self._check_path(path) == "generic":
             return self._generic.is_empty()
         return self._is_empty()
 
@@ -135,7 +136,7 @@ class ConvexSet(ABC):
         cz = self._flat_cz
         return cz._is_empty() if cz is not None else self._generic.is_empty()
 
-    def contains(self, point: Any, tol: float | None = None, *, method: str = "auto") -> bool:
+    def contains(self, point: Any, tol: float | None = None, *, path: str = "auto") -> bool:
         """Whether ``point`` lies in the set, up to an ∞-norm margin.
 
         Parameters
@@ -146,7 +147,7 @@ class ConvexSet(ABC):
         """
         p = as_vector(point, "point", self.dim)
         margin = self._margin(p, tol)
-        if self._check_method(method) == "generic":
+        if self._check_path(path) == "generic":
             return self._generic.contains(p, margin)
         return self._contains(p, margin)
 
@@ -163,7 +164,7 @@ class ConvexSet(ABC):
         return float(given)
 
     # -- derived geometry ----------------------------------------------------------------------------
-    def interval_hull(self, *, method: str = "auto", certified: bool = False) -> "Box | ConvexSet":
+    def interval_hull(self, *, path: str = "auto", certified: bool = False) -> "Box | ConvexSet":
         """The tightest box containing the set (2·dim support values, one stacked program).
 
         Returns
@@ -175,18 +176,18 @@ class ConvexSet(ABC):
         from .empty import EmptySet
 
         eye = np.eye(self.dim)
-        values = self.support_many(np.vstack([eye, -eye]), method=method, certified=certified)
+        values = self.support_many(np.vstack([eye, -eye]), path=path, certified=certified)
         hi, lo = values[: self.dim], -values[self.dim:]
         if np.isneginf(hi).any():
             return EmptySet(self.dim)
         return Box._trusted(lo, np.maximum(hi, lo))
 
-    def diameter(self, *, method: str = "auto", certified: bool = False) -> float:
+    def diameter(self, *, path: str = "auto", certified: bool = False) -> float:
         """∞-norm diameter sup_{s,s'∈S} ‖s − s'‖∞: the widest edge of the interval hull.
 
         Returns ``-inf`` for the empty set (the supremum over no pairs) and ``inf`` when unbounded.
         """
-        hull = self.interval_hull(method=method, certified=certified)
+        hull = self.interval_hull(path=path, certified=certified)
         if hull.is_empty():
             return -np.inf
         return float(np.max(hull.hi - hull.lo))
@@ -331,10 +332,10 @@ class ConvexSet(ABC):
     def _project(self, idx: np.ndarray) -> "ConvexSet":
         return np.eye(self.dim)[idx] @ self
 
-    def _check_method(self, method: str) -> str:
-        if method not in _METHODS:
-            raise ValueError(f"method must be one of {_METHODS}, got {method!r}")
-        return method
+    def _check_path(self, path: str) -> str:
+        if path not in _PATHS:
+            raise ValueError(f"path must be one of {_PATHS}, got {path!r}")
+        return path
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(dim={self.dim})"

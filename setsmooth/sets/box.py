@@ -103,9 +103,9 @@ class Box(ConvexSet):
     def _contains(self, p: np.ndarray, margin: float) -> bool:
         return bool(np.all(p >= self.lo - margin) and np.all(p <= self.hi + margin))
 
-    def interval_hull(self, *, method: str = "auto", certified: bool = False) -> "Box":
-        if self._check_method(method) == "generic":
-            return super().interval_hull(method=method, certified=certified)
+    def interval_hull(self, *, path: str = "auto", certified: bool = False) -> "Box":
+        if self._check_path(path) == "generic":
+            return super().interval_hull(path=path, certified=certified)
         return self
 
     def _chebyshev_center(self) -> np.ndarray:

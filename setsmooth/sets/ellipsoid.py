@@ -88,9 +88,9 @@ class Ellipsoid(ConvexSet):
         points = self.c + np.where(s[:, None] > 0, QD / safe[:, None], 0.0)
         return values, points
 
-    def interval_hull(self, *, method: str = "auto", certified: bool = False):
-        if self._check_method(method) == "generic" or certified:
-            return super().interval_hull(method=method, certified=certified)
+    def interval_hull(self, *, path: str = "auto", certified: bool = False):
+        if self._check_path(path) == "generic" or certified:
+            return super().interval_hull(path=path, certified=certified)
         from .box import Box
 
         r = np.sqrt(np.clip(np.diag(self.Q), 0.0, None))

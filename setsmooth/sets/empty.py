@@ -37,9 +37,9 @@ class EmptySet(ConvexSet):
     def _contains(self, p: np.ndarray, margin: float) -> bool:
         return False
 
-    def interval_hull(self, *, method: str = "auto", certified: bool = False) -> "EmptySet":
-        if self._check_method(method) == "generic" and certified:
-            return super().interval_hull(method=method, certified=certified)  # raises
+    def interval_hull(self, *, path: str = "auto", certified: bool = False) -> "EmptySet":
+        if self._check_path(path) == "generic" and certified:
+            return super().interval_hull(path=path, certified=certified)  # raises
         return self
 
     def center(self, method: str = "interval_hull", reference=None, norm=2) -> np.ndarray:

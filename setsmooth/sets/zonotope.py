@@ -68,10 +68,10 @@ class Zonotope(ConvexSet):
         points = np.sign(g) @ self.G.T + self.c
         return values, points
 
-    def interval_hull(self, *, method: str = "auto", certified: bool = False):
+    def interval_hull(self, *, path: str = "auto", certified: bool = False):
         """[c − r, c + r] with r = Σ_j |G_{:,j}| (no program)."""
-        if self._check_method(method) == "generic":
-            return super().interval_hull(method=method, certified=certified)
+        if self._check_path(path) == "generic":
+            return super().interval_hull(path=path, certified=certified)
         from .box import Box
 
         r = np.abs(self.G).sum(axis=1)

@@ -100,7 +100,7 @@ def test_operation_widens_to_the_most_specific_closed_type(name, build, expected
 def test_widened_result_agrees_with_its_generic_program(name, build, expected):
     S = build()
     D = np.random.default_rng(0).standard_normal((4, S.dim))
-    auto, generic = S.support_many(D), S.support_many(D, method="generic")
+    auto, generic = S.support_many(D), S.support_many(D, path="generic")
     assert np.array_equal(np.isinf(auto), np.isinf(generic))
     finite = np.isfinite(auto)
     np.testing.assert_allclose(auto[finite], generic[finite],

@@ -44,7 +44,7 @@ def test_unbounded_sides_give_infinite_support_only_in_their_direction():
     D = np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]])
     assert B.support_many(D).tolist() == [0.0, np.inf, np.inf, 0.0]
     assert np.isnan(B.support_point([-1.0, 0.0])).all()
-    np.testing.assert_allclose(B.support_many(D, method="generic"), [0.0, np.inf, np.inf, 0.0],
+    np.testing.assert_allclose(B.support_many(D, path="generic"), [0.0, np.inf, np.inf, 0.0],
                                atol=1e-8)
 
 
@@ -61,7 +61,7 @@ def test_queries_on_unbounded_boxes_emit_no_warnings():
 def test_interval_hull_of_a_box_is_the_box_itself():
     B = ss.Box([0, -np.inf], [1, 2])
     assert B.interval_hull() is B
-    hull = ss.Box([0, 1], [2, 3]).interval_hull(method="generic")
+    hull = ss.Box([0, 1], [2, 3]).interval_hull(path="generic")
     np.testing.assert_allclose(hull.lo, [0, 1], atol=1e-8)
     np.testing.assert_allclose(hull.hi, [2, 3], atol=1e-8)
 

@@ -29,7 +29,7 @@ def test_the_triangle_cut_from_a_square_by_a_constraint_has_the_expected_support
     Z = ss.ConstrainedZonotope(np.eye(2), np.zeros(2), A=[[1.0, 1.0]], b=[1.0])
     D = np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [1.0, -1.0]])
     np.testing.assert_allclose(Z.support_many(D), [1.0, 0.0, 1.0, 1.0], atol=1e-8)
-    np.testing.assert_allclose(Z.support_many(D, method="generic"), [1.0, 0.0, 1.0, 1.0], atol=1e-7)
+    np.testing.assert_allclose(Z.support_many(D, path="generic"), [1.0, 0.0, 1.0, 1.0], atol=1e-7)
     np.testing.assert_allclose(Z.vertices_2d()[np.argsort(Z.vertices_2d()[:, 0])],
                                [[0.0, 1.0], [1.0, 0.0]], atol=1e-7)
 
@@ -38,7 +38,7 @@ def test_fast_path_equals_generic_path_on_random_czs():
     for seed in range(5):
         Z = random_cz(seed)
         D = np.random.default_rng(seed).standard_normal((8, 3))
-        np.testing.assert_allclose(Z.support_many(D), Z.support_many(D, method="generic"),
+        np.testing.assert_allclose(Z.support_many(D), Z.support_many(D, path="generic"),
                                    atol=1e-6 * (1 + np.abs(Z.support_many(D)).max()))
 
 
@@ -130,8 +130,8 @@ def test_infinite_bounds_pinned_by_constraints_give_a_bounded_set():
     # ξ1 free, ξ2 ∈ [−1, 1], ξ1 = 2ξ2: the segment x = (2t, t), |t| ≤ 1.
     Z = ss.ConstrainedZonotope(np.eye(2), [0, 0], A=[[1.0, -2.0]], b=[0.0], h=[np.inf, 1.0])
     D = np.array([[1.0, 0.0], [0.0, -1.0], [1.0, 1.0]])
-    for method in ("auto", "generic"):
-        np.testing.assert_allclose(Z.support_many(D, method=method), [2.0, 1.0, 3.0], atol=1e-7)
+    for path in ("auto", "generic"):
+        np.testing.assert_allclose(Z.support_many(D, path=path), [2.0, 1.0, 3.0], atol=1e-7)
     assert Z.support([1.0, 0.0], certified=True) == pytest.approx(2.0, abs=1e-7)
     assert Z.contains([1.0, 0.5]) and not Z.contains([1.0, 0.0])
 
@@ -141,8 +141,8 @@ def test_free_factors_not_pinned_make_every_unseen_direction_unbounded():
     Z = ss.ConstrainedZonotope([[1.0, 0.0, 1.0], [0.0, 1.0, 0.0]], [0, 0],
                                A=[[1.0, -1.0, 0.0]], b=[0.0], h=[np.inf, np.inf, 1.0])
     D = np.array([[1.0, -1.0], [-1.0, 1.0], [1.0, 0.0], [0.0, -1.0]])
-    for method in ("auto", "generic"):
-        values = Z.support_many(D, method=method)
+    for path in ("auto", "generic"):
+        values = Z.support_many(D, path=path)
         np.testing.assert_allclose(values[:2], [1.0, 1.0], atol=1e-7)
         assert values[2:].tolist() == [np.inf, np.inf]
     certified = Z.support_many(D, certified=True)
@@ -168,7 +168,7 @@ def test_nested_preimages_of_free_boxes_are_unbounded_exactly_off_their_linealit
     bounds = [(None, None) if f else (-hj, hj) for f, hj in zip(free, S.h)]
     feasible = linprog(np.zeros(S.ng), A_eq=A, b_eq=S.b, bounds=bounds).status == 0
     if not feasible:  # the range of the maps can miss the box
-        assert S.is_empty() and S.is_empty(method="generic")
+        assert S.is_empty() and S.is_empty(path="generic")
         assert np.isneginf(S.support_many(np.eye(n))).all()
         return
     L = G[:, free] @ scipy.linalg.null_space(A[:, free])
@@ -179,7 +179,7 @@ def test_nested_preimages_of_free_boxes_are_unbounded_exactly_off_their_linealit
         unbounded = np.linalg.norm(D @ Q, axis=1) > 1e-9
     else:
         unbounded = np.zeros(len(D), dtype=bool)
-    auto, generic = S.support_many(D), S.support_many(D, method="generic")
+    auto, generic = S.support_many(D), S.support_many(D, path="generic")
     assert np.isposinf(auto[unbounded]).all() and np.isposinf(generic[unbounded]).all()
     assert np.isfinite(auto[~unbounded]).all()
     np.testing.assert_allclose(auto[~unbounded], generic[~unbounded],

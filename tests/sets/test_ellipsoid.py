@@ -24,7 +24,7 @@ def test_closed_form_support_equals_the_generic_program(rank):
     D = np.random.default_rng(1).standard_normal((8, 3))
     expected = D @ E.c + np.sqrt(np.einsum("ij,jk,ik->i", D, E.Q, D))
     np.testing.assert_allclose(E.support_many(D), expected, atol=1e-12)
-    np.testing.assert_allclose(E.support_many(D, method="generic"), expected,
+    np.testing.assert_allclose(E.support_many(D, path="generic"), expected,
                                atol=1e-6 * (1 + np.abs(expected).max()))
 
 
@@ -49,7 +49,7 @@ def test_interval_hull_half_widths_are_square_roots_of_the_diagonal():
     r = np.sqrt(np.diag(E.Q))
     np.testing.assert_allclose(hull.lo, E.c - r)
     np.testing.assert_allclose(hull.hi, E.c + r)
-    generic = E.interval_hull(method="generic")
+    generic = E.interval_hull(path="generic")
     np.testing.assert_allclose(generic.hi, hull.hi, atol=1e-6)
 
 

@@ -213,15 +213,15 @@ IDS = [type(S).__name__ for S in QUERY_SETS]
 
 
 @pytest.mark.parametrize("S", QUERY_SETS, ids=IDS)
-def test_bad_method_strings_are_refused_by_every_query(S):
-    for query in (lambda: S.support([1, 0], method="fast"),
-                  lambda: S.support_many(np.eye(2), method="cvx"),
-                  lambda: S.support_point([1, 0], method=""),
-                  lambda: S.is_empty(method="exact"),
-                  lambda: S.contains([0, 0], method="lp"),
-                  lambda: S.interval_hull(method="closed"),
-                  lambda: S.diameter(method="closed")):
-        with pytest.raises(ValueError, match="method must be one of"):
+def test_bad_solver_path_strings_are_refused_by_every_query(S):
+    for query in (lambda: S.support([1, 0], path="fast"),
+                  lambda: S.support_many(np.eye(2), path="cvx"),
+                  lambda: S.support_point([1, 0], path=""),
+                  lambda: S.is_empty(path="exact"),
+                  lambda: S.contains([0, 0], path="lp"),
+                  lambda: S.interval_hull(path="closed"),
+                  lambda: S.diameter(path="closed")):
+        with pytest.raises(ValueError, match="path must be one of"):
             query()
     with pytest.raises(ValueError, match="method must be 'interval_hull', 'chebyshev' or 'closest'"):
         S.center(method="mean")
@@ -230,9 +230,9 @@ def test_bad_method_strings_are_refused_by_every_query(S):
 @pytest.mark.parametrize("S", QUERY_SETS, ids=IDS)
 def test_certified_values_cannot_come_from_the_generic_path(S):
     with pytest.raises(ValueError, match="certified=True needs the constrained-zonotope fast path"):
-        S.support([1, 0], method="generic", certified=True)
+        S.support([1, 0], path="generic", certified=True)
     with pytest.raises(ValueError, match="certified=True needs the constrained-zonotope fast path"):
-        S.interval_hull(method="generic", certified=True)
+        S.interval_hull(path="generic", certified=True)
 
 
 @pytest.mark.parametrize("S", [ss.Ellipsoid([0, 0], np.eye(2)),

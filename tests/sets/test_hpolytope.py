@@ -18,7 +18,7 @@ def test_docstring_example():
 def test_support_of_a_square_is_its_l1_norm_and_agrees_across_paths():
     D = np.random.default_rng(0).standard_normal((10, 2))
     np.testing.assert_allclose(SQUARE.support_many(D), np.abs(D).sum(axis=1), atol=1e-7)
-    np.testing.assert_allclose(SQUARE.support_many(D, method="generic"), np.abs(D).sum(axis=1),
+    np.testing.assert_allclose(SQUARE.support_many(D, path="generic"), np.abs(D).sum(axis=1),
                                atol=1e-7)
 
 
@@ -27,7 +27,7 @@ def test_membership_relaxes_each_face_by_the_margin_times_its_l1_norm():
     assert P.contains([1.0, 5.0], tol=0.0)
     assert not P.contains([1.01, 5.0], tol=0.0)
     assert P.contains([1.01, 5.0], tol=0.02)
-    assert P.contains([1.01, 5.0], tol=0.02, method="generic")
+    assert P.contains([1.01, 5.0], tol=0.02, path="generic")
 
 
 def test_translation_shifts_the_offsets():

@@ -22,7 +22,7 @@ def test_linear_map_support_is_the_support_in_the_transposed_direction():
     S = ss.LinearMap(M, SQUARE, offset=[1.0, 0.0, -1.0])
     D3 = np.random.default_rng(1).standard_normal((6, 3))
     close(S.support_many(D3), SQUARE.support_many(D3 @ M) + D3 @ S.offset)
-    close(S.support_many(D3, method="generic"), S.support_many(D3))
+    close(S.support_many(D3, path="generic"), S.support_many(D3))
     p = S.support_point(D3[0])
     assert S.contains(p, tol=1e-6)
 
@@ -41,14 +41,14 @@ def test_lazy_linear_map_accepts_a_sparse_matrix():
     S = M @ SQUARE
     assert isinstance(S, ss.LinearMap)
     close(S.support_many(D), SQUARE.support_many(D @ M.toarray()))
-    close(S.support_many(D, method="generic"), S.support_many(D))
+    close(S.support_many(D, path="generic"), S.support_many(D))
 
 
 def test_minkowski_sum_support_is_the_sum_and_support_points_add():
     S = E + SQUARE
     assert isinstance(S, ss.MinkowskiSum)
     close(S.support_many(D), E.support_many(D) + SQUARE.support_many(D))
-    close(S.support_many(D, method="generic"), S.support_many(D))
+    close(S.support_many(D, path="generic"), S.support_many(D))
     p = S.support_point(D[0])
     assert D[0] @ p == pytest.approx(S.support(D[0]), abs=1e-6)
 
@@ -58,7 +58,7 @@ def test_cartesian_product_support_splits_the_direction():
     assert isinstance(S, ss.CartesianProduct) and S.dim == 4
     D4 = np.random.default_rng(2).standard_normal((6, 4))
     close(S.support_many(D4), E.support_many(D4[:, :2]) + SQUARE.support_many(D4[:, 2:]))
-    close(S.support_many(D4, method="generic"), S.support_many(D4))
+    close(S.support_many(D4, path="generic"), S.support_many(D4))
 
 
 def test_intersection_of_an_ellipse_and_a_square_is_inside_both():
@@ -85,7 +85,7 @@ def test_lazy_sets_of_cz_operands_use_the_fast_path():
         assert isinstance(cz, ss.ConstrainedZonotope)
         Dk = np.random.default_rng(3).standard_normal((5, lazy.dim))
         close(lazy.support_many(Dk), cz.support_many(Dk))
-        close(lazy.support_many(Dk, method="generic"), lazy.support_many(Dk))
+        close(lazy.support_many(Dk, path="generic"), lazy.support_many(Dk))
         assert np.isfinite(lazy.support_many(Dk, certified=True)).all()
 
 

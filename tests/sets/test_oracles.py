@@ -139,7 +139,7 @@ def test_support_equals_the_maximum_over_enumerated_vertices(make, seed, n):
     points = points_of(S)
     D = directions(n, seed=seed)
     assert_support_matches(S, points, D)
-    generic = S.support_many(D[:12], method="generic")
+    generic = S.support_many(D[:12], path="generic")
     np.testing.assert_allclose(generic, oracle_support(points, D[:12]), rtol=0,
                                atol=REL * (1 + np.abs(generic).max()))
 

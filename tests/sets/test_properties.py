@@ -142,8 +142,8 @@ def test_preimage_under_an_invertible_map_is_the_image_under_its_inverse(data):
 def test_generic_path_agrees_with_the_fast_path(data):
     S = data.draw(sst.sets(), label="S")
     D = sst.directions(data.draw(sst.rngs()), S.set.dim)
-    sst.assert_supports_close(S.set.support_many(D, method="generic"),
-                              S.set.support_many(D, method="auto"))
+    sst.assert_supports_close(S.set.support_many(D, path="generic"),
+                              S.set.support_many(D, path="auto"))
 
 
 @PROPERTY
@@ -177,7 +177,7 @@ def test_lazy_forms_equal_the_closed_forms(data):
         (ss.GeneralizedIntersection(S.set, M, M @ T.set), S.set.intersect_preimage(M, M @ T.set)),
     ]
     for lazy, closed in pairs:
-        sst.assert_supports_close(lazy.support_many(D, method="generic"), closed.support_many(D))
+        sst.assert_supports_close(lazy.support_many(D, path="generic"), closed.support_many(D))
         sst.assert_supports_close(lazy.support_many(D), closed.support_many(D))
 
 
@@ -186,10 +186,10 @@ def test_lazy_forms_equal_the_closed_forms(data):
 def test_support_points_are_members_that_attain_the_support(data):
     S = data.draw(sst.sets(), label="S")
     rng = data.draw(sst.rngs())
-    for method in ("auto", "generic"):
+    for path in ("auto", "generic"):
         for d in sst.directions(rng, S.set.dim, k=3):
-            value = S.set.support(d, method=method)
-            point = S.set.support_point(d, method=method)
+            value = S.set.support(d, path=path)
+            point = S.set.support_point(d, path=path)
             if not np.isfinite(value):
                 assert np.isnan(point).all()
                 continue
@@ -248,8 +248,8 @@ def test_certified_support_bounds_the_solver_value_from_above_and_tightly(data):
 @given(st.data())
 def test_interval_hull_and_emptiness_agree_between_paths(data):
     S = data.draw(sst.sets(), label="S")
-    auto, generic = S.set.interval_hull(), S.set.interval_hull(method="generic")
-    assert S.set.is_empty() == S.set.is_empty(method="generic") == auto.is_empty()
+    auto, generic = S.set.interval_hull(), S.set.interval_hull(path="generic")
+    assert S.set.is_empty() == S.set.is_empty(path="generic") == auto.is_empty()
     if auto.is_empty():
         assert isinstance(auto, ss.EmptySet) and isinstance(generic, ss.EmptySet)
         assert S.set.diameter() == -np.inf

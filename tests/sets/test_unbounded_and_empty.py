@@ -22,14 +22,14 @@ def contradictory_cz():
 
 # -- unbounded -------------------------------------------------------------------------------------
 
-@pytest.mark.parametrize("method", ["auto", "generic"])
-def test_a_strip_is_bounded_across_and_unbounded_along(method):
+@pytest.mark.parametrize("path", ["auto", "generic"])
+def test_a_strip_is_bounded_across_and_unbounded_along(path):
     S = strip()
     assert isinstance(S, ss.ConstrainedZonotope)
-    values = S.support_many(AXES2, method=method)
+    values = S.support_many(AXES2, path=path)
     np.testing.assert_allclose(values[:2], [1.0, 0.0], atol=1e-8)
     assert values[2:].tolist() == [np.inf, np.inf]
-    assert S.support([1.0, 1e-3], method=method) == np.inf
+    assert S.support([1.0, 1e-3], path=path) == np.inf
 
 
 def test_a_strip_has_an_interval_hull_with_infinite_sides_and_infinite_diameter():
@@ -38,15 +38,15 @@ def test_a_strip_has_an_interval_hull_with_infinite_sides_and_infinite_diameter(
     np.testing.assert_allclose(hull.hi[0], 1.0, atol=1e-8)
     assert hull.lo[1] == -np.inf and hull.hi[1] == np.inf
     assert strip().diameter() == np.inf
-    assert strip().diameter(method="generic") == np.inf
+    assert strip().diameter(path="generic") == np.inf
 
 
 def test_membership_in_a_strip():
     S = strip()
-    for method in ("auto", "generic"):
-        assert S.contains([0.5, 1e6], method=method)
-        assert not S.contains([1.5, 0.0], method=method)
-    assert not S.is_empty() and not S.is_empty(method="generic")
+    for path in ("auto", "generic"):
+        assert S.contains([0.5, 1e6], path=path)
+        assert not S.contains([1.5, 0.0], path=path)
+    assert not S.is_empty() and not S.is_empty(path="generic")
 
 
 def test_certified_support_of_a_strip():
@@ -55,29 +55,29 @@ def test_certified_support_of_a_strip():
     assert values[2:].tolist() == [np.inf, np.inf]
 
 
-@pytest.mark.parametrize("method", ["auto", "generic"])
-def test_the_whole_space_has_infinite_support_except_in_the_zero_direction(method):
+@pytest.mark.parametrize("path", ["auto", "generic"])
+def test_the_whole_space_has_infinite_support_except_in_the_zero_direction(path):
     R = ss.Reals(2)
-    assert R.support_many(AXES2, method=method).tolist() == [np.inf] * 4
-    assert R.support([0.0, 0.0], method=method) == 0.0
-    assert R.contains([1e9, -1e9], method=method)
-    assert not R.is_empty(method=method)
+    assert R.support_many(AXES2, path=path).tolist() == [np.inf] * 4
+    assert R.support([0.0, 0.0], path=path) == 0.0
+    assert R.contains([1e9, -1e9], path=path)
+    assert not R.is_empty(path=path)
 
 
-@pytest.mark.parametrize("method", ["auto", "generic"])
-def test_a_half_plane_is_unbounded_except_along_its_normal(method):
+@pytest.mark.parametrize("path", ["auto", "generic"])
+def test_a_half_plane_is_unbounded_except_along_its_normal(path):
     P = ss.HPolytope([[1.0, 1.0]], [1.0])
-    values = P.support_many(np.array([[1.0, 1.0], [1.0, 0.0], [-1.0, -1.0]]), method=method)
+    values = P.support_many(np.array([[1.0, 1.0], [1.0, 0.0], [-1.0, -1.0]]), path=path)
     assert values[0] == pytest.approx(1.0, abs=1e-7)
     assert values[1:].tolist() == [np.inf, np.inf]
 
 
-@pytest.mark.parametrize("method", ["auto", "generic"])
-def test_a_half_line_box_is_unbounded_on_its_open_side(method):
+@pytest.mark.parametrize("path", ["auto", "generic"])
+def test_a_half_line_box_is_unbounded_on_its_open_side(path):
     B = ss.Box([-np.inf, 0.0], [2.0, 1.0])
-    np.testing.assert_allclose(B.support_many(AXES2, method=method)[[0, 2, 3]], [2.0, 1.0, 0.0],
+    np.testing.assert_allclose(B.support_many(AXES2, path=path)[[0, 2, 3]], [2.0, 1.0, 0.0],
                                atol=1e-8)
-    assert B.support([-1.0, 0.0], method=method) == np.inf
+    assert B.support([-1.0, 0.0], path=path) == np.inf
 
 
 def test_an_unbounded_set_has_no_polygon_and_cannot_be_sampled():
@@ -95,23 +95,23 @@ def test_a_linear_map_can_make_an_unbounded_set_bounded():
 def test_unbounded_sets_in_lazy_combinations_stay_unbounded_on_both_paths():
     S = ss.Ellipsoid([0.0, 0.0], np.eye(2)) + ss.HPolytope([[1.0, 0.0]], [0.0])
     assert isinstance(S, ss.MinkowskiSum)
-    for method in ("auto", "generic"):
-        values = S.support_many(AXES2, method=method)
+    for path in ("auto", "generic"):
+        values = S.support_many(AXES2, path=path)
         assert values[0] == pytest.approx(1.0, abs=1e-6)
         assert values[1:].tolist() == [np.inf] * 3
 
 
 # -- empty -----------------------------------------------------------------------------------------
 
-@pytest.mark.parametrize("method", ["auto", "generic"])
-def test_a_cz_with_contradictory_constraints_is_empty(method):
+@pytest.mark.parametrize("path", ["auto", "generic"])
+def test_a_cz_with_contradictory_constraints_is_empty(path):
     Z = contradictory_cz()
-    assert Z.is_empty(method=method)
-    assert Z.support_many(AXES2, method=method).tolist() == [-np.inf] * 4
-    assert np.isnan(Z.support_point([1.0, 0.0], method=method)).all()
-    assert not Z.contains([0.0, 0.0], method=method)
-    assert isinstance(Z.interval_hull(method=method), ss.EmptySet)
-    assert Z.diameter(method=method) == -np.inf
+    assert Z.is_empty(path=path)
+    assert Z.support_many(AXES2, path=path).tolist() == [-np.inf] * 4
+    assert np.isnan(Z.support_point([1.0, 0.0], path=path)).all()
+    assert not Z.contains([0.0, 0.0], path=path)
+    assert isinstance(Z.interval_hull(path=path), ss.EmptySet)
+    assert Z.diameter(path=path) == -np.inf
 
 
 def test_an_empty_cz_has_no_centre_vertices_or_area():
@@ -126,7 +126,7 @@ def test_an_empty_cz_with_free_factors_is_empty():
     # ξ1 free: ξ1 = 1 and ξ1 = 2.
     Z = ss.ConstrainedZonotope(np.eye(2), [0, 0], A=[[1.0, 0.0], [1.0, 0.0]], b=[1.0, 2.0],
                                h=[np.inf, 1.0])
-    assert Z.is_empty() and Z.is_empty(method="generic")
+    assert Z.is_empty() and Z.is_empty(path="generic")
     assert Z.support_many(AXES2).tolist() == [-np.inf] * 4
 
 
@@ -140,11 +140,11 @@ def test_intersecting_disjoint_sets_gives_an_empty_set_on_every_path():
 
 def test_the_empty_set_answers_every_query():
     E = ss.EmptySet(2)
-    assert E.is_empty() and E.is_empty(method="generic")
+    assert E.is_empty() and E.is_empty(path="generic")
     assert E.support_many(AXES2).tolist() == [-np.inf] * 4
-    assert E.support_many(AXES2, method="generic").tolist() == [-np.inf] * 4
+    assert E.support_many(AXES2, path="generic").tolist() == [-np.inf] * 4
     assert E.support([1.0, 0.0], certified=True) == -np.inf
-    assert not E.contains([0.0, 0.0]) and not E.contains([0.0, 0.0], method="generic")
+    assert not E.contains([0.0, 0.0]) and not E.contains([0.0, 0.0], path="generic")
     assert E.interval_hull() is E and E.diameter() == -np.inf
     assert np.isnan(E.center()).all() and np.isnan(E.center("closest", reference=[0, 0])).all()
     assert E.area() == 0.0 and E.vertices_2d().shape == (0, 2)
@@ -195,7 +195,7 @@ def test_an_empty_operand_inside_a_lazy_set_makes_it_empty():
         D = np.ones((1, S.dim))
         assert S.is_empty()
         assert S.support_many(D).tolist() == [-np.inf]
-        assert S.support_many(D, method="generic").tolist() == [-np.inf]
+        assert S.support_many(D, path="generic").tolist() == [-np.inf]
 
 
 def test_an_empty_set_plus_an_unbounded_one_is_empty_not_nan():

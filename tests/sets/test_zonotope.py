@@ -45,7 +45,7 @@ def test_interval_hull_radius_is_the_absolute_row_sum_of_the_generators():
     r = np.abs(Z.G).sum(axis=1)
     np.testing.assert_allclose(hull.lo, Z.c - r)
     np.testing.assert_allclose(hull.hi, Z.c + r)
-    generic = Z.interval_hull(method="generic")
+    generic = Z.interval_hull(path="generic")
     np.testing.assert_allclose(generic.lo, hull.lo, atol=1e-7)
     np.testing.assert_allclose(generic.hi, hull.hi, atol=1e-7)
 
