@@ -193,8 +193,17 @@ class LinearSystem:
     def process_noise_image(self, k: int, *, negated: bool = False) -> ConvexSet:
         """Γ_k W (or Γ_k(−W), the smoother's term in smoothing (15)), computed once when Γ is constant.
 
-        The set is built by the trusted set algebra from matrices this system validated; its form is
-        the one ``B(k) @ W`` (``B(k) @ -W``) gives.
+        Parameters
+        ----------
+        k : int
+        negated : bool
+            Return Γ_k(−W) instead of Γ_k W.
+
+        Returns
+        -------
+        ConvexSet
+            Built by the trusted set algebra from matrices this system validated: the same set
+            ``B(k) @ W`` (``B(k) @ -W``) gives, shared by every step when B is constant.
         """
         key = "-BW" if negated else "BW"
         image = self._images.get(key)

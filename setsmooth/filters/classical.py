@@ -56,13 +56,54 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, detect_empty: bool = Tru
 
 
 def predict(system, k: int, posterior: ConvexSet) -> ConvexSet:
-    """⟦x_{k+1} | y_{0:k}⟧ = A_k ⟦x_k | y_{0:k}⟧ ⊕ B_k W ⊕ {u_k} (stability (3), CZ form (20))."""
+    """⟦x_{k+1} | y_{0:k}⟧ = A_k ⟦x_k | y_{0:k}⟧ ⊕ B_k W ⊕ {u_k} (stability (3), CZ form (20)).
+
+    Parameters
+    ----------
+    system : LinearSystem
+    k : int
+        Time step of ``posterior``.
+    posterior : ConvexSet
+        ⟦x_k | y_{0:k}⟧, of dimension n.
+
+    Returns
+    -------
+    ConvexSet
+        The prior ⟦x_{k+1} | y_{0:k}⟧; B_k W is the system's cached image when B is constant, and a
+        zero u_k adds no translation.
+
+    Raises
+    ------
+    ValueError
+        When ``posterior`` is not a set of dimension n.
+    """
     _check_state_set(posterior, "posterior", system.n)
     return _predict(system, k, posterior)
 
 
 def update(system, k: int, prior: ConvexSet, y: Any) -> ConvexSet:
-    """⟦x_k | y_{0:k}⟧ = prior ∩_{C_k} (y_k ⊕ D_k(−V)) (stability (4), CZ form (21))."""
+    """⟦x_k | y_{0:k}⟧ = prior ∩_{C_k} (y_k ⊕ D_k(−V)) (stability (4), CZ form (21)).
+
+    Parameters
+    ----------
+    system : LinearSystem
+    k : int
+        Time step of the measurement.
+    prior : ConvexSet
+        ⟦x_k | y_{0:k−1}⟧, of dimension n.
+    y : array_like, shape (m,)
+        The measurement y_k.
+
+    Returns
+    -------
+    ConvexSet
+        The posterior; D_k(−V) is the system's cached image when D is constant.
+
+    Raises
+    ------
+    ValueError, TypeError
+        When ``prior`` is not a set of dimension n, or ``y`` is not a finite real vector of length m.
+    """
     _check_state_set(prior, "prior", system.n)
     return _update(system, k, prior, as_vector(y, "y", system.m))
 

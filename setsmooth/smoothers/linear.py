@@ -64,7 +64,19 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "recursion
 
 
 def smooth(system, posteriors: list[ConvexSet]) -> list[ConvexSet]:
-    """The backward pass of smoothing Algorithm 1 on given posteriors (any representation)."""
+    """The backward pass of smoothing Algorithm 1 on given posteriors (any representation).
+
+    Parameters
+    ----------
+    system : LinearSystem
+    posteriors : list of ConvexSet
+        ⟦x_k | y_{0:k}⟧ for k = 0..T, each of dimension n (validated once, before the loop).
+
+    Returns
+    -------
+    list of ConvexSet
+        ``smoothed[k]`` = ⟦x_k | y_{0:T}⟧.
+    """
     if len(posteriors) < 1:
         raise ValueError("posteriors must hold at least one set")
     for k, P in enumerate(posteriors):
@@ -77,7 +89,23 @@ def smooth(system, posteriors: list[ConvexSet]) -> list[ConvexSet]:
 
 
 def smoothing_step(system, k: int, posterior: ConvexSet, next_smoothed: ConvexSet) -> ConvexSet:
-    """⟦x_k | y_{0:T}⟧ from ⟦x_k | y_{0:k}⟧ and ⟦x_{k+1} | y_{0:T}⟧ (smoothing (15)/(25); CZ: (24))."""
+    """⟦x_k | y_{0:T}⟧ from ⟦x_k | y_{0:k}⟧ and ⟦x_{k+1} | y_{0:T}⟧ (smoothing (15)/(25); CZ: (24)).
+
+    Parameters
+    ----------
+    system : LinearSystem
+    k : int
+    posterior : ConvexSet
+        ⟦x_k | y_{0:k}⟧, of dimension n.
+    next_smoothed : ConvexSet
+        ⟦x_{k+1} | y_{0:T}⟧, of dimension n.
+
+    Returns
+    -------
+    ConvexSet
+        {x ∈ posterior : A_k x ∈ next_smoothed ⊕ B_k(−W) − u_k}; B_k(−W) is the system's cached image
+        when B is constant, and a zero u_k adds no translation.
+    """
     _check_state_set(posterior, "posterior", system.n)
     _check_state_set(next_smoothed, "next_smoothed", system.n)
     return _smoothing_step(system, k, posterior, next_smoothed)
