@@ -39,7 +39,7 @@ class _TimeVarying:
             self.shape = as_matrix(spec(0), f"{name}(0)", rows, cols).shape
             self._call = spec
         elif _is_sequence_of_matrices(spec):
-            seq = [as_matrix(M, f"{name}[{k}]", rows, cols) for k, M in enumerate(spec)]
+            seq = [_frozen(as_matrix(M, f"{name}[{k}]", rows, cols)) for k, M in enumerate(spec)]
             for k, M in enumerate(seq):
                 if M.shape != seq[0].shape:
                     raise ValueError(f"{name}[{k}] has shape {M.shape} but {name}[0] has shape "
@@ -47,7 +47,7 @@ class _TimeVarying:
             self._seq = seq
             self.shape = seq[0].shape
         else:
-            self._const = as_matrix(spec, name, rows, cols)
+            self._const = _frozen(as_matrix(spec, name, rows, cols))
             self.shape = self._const.shape
 
     def __call__(self, k: int) -> np.ndarray:
@@ -62,6 +62,13 @@ class _TimeVarying:
     @property
     def is_constant(self) -> bool:
         return self._const is not None
+
+
+def _frozen(arr: np.ndarray) -> np.ndarray:
+    """A read-only private copy: the system (and the noise images it caches) cannot change under us."""
+    arr = np.array(arr, dtype=float, copy=True)
+    arr.flags.writeable = False
+    return arr
 
 
 def _is_sequence_of_matrices(spec: Any) -> bool:
@@ -89,9 +96,10 @@ class _InputTerm:
         rows = real_array(u, "u", f"an array of shape (T, n={n})")
         if rows.ndim != 2 or rows.shape[1] != n:
             raise ValueError(f"u must have shape (T, n={n}) (the term added to x_(k+1)), got {rows.shape}")
-        for k, row in enumerate(rows):
-            as_vector(row, f"u[{k}]", n)
-        self._rows = rows
+        bad = np.flatnonzero(~np.isfinite(rows).all(axis=1))
+        if bad.size:
+            as_vector(rows[bad[0]], f"u[{bad[0]}]", n)  # raises, naming the first bad row
+        self._rows = _frozen(rows)
 
     def __call__(self, k: int) -> np.ndarray:
         if self._rows is not None:

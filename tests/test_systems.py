@@ -163,3 +163,12 @@ def test_simulate_refuses_an_initial_state_outside_x0_set():
         ss.simulate(example_31(), ss.Box([-1, -1], [1, 1]), 3, np.random.default_rng(), x0=[1.5, 0.0])
     xs, _ = ss.simulate(example_31(), ss.Box([-1, -1], [1, 1]), 3, np.random.default_rng(), x0=[1.0, 0.0])
     assert np.array_equal(xs[0], [1.0, 0.0])
+
+
+def test_the_system_keeps_private_copies_of_its_matrices_and_inputs():
+    B, u = np.array([[0.5], [1.0]]), np.zeros((4, 2))
+    sys = ss.LinearSystem(np.eye(2), B, np.eye(2), np.eye(2), ss.Box([-1], [1]), ss.Box([-1, -1], [1, 1]), u=u)
+    image = sys.process_noise_image(0).support([1.0, 0.0])
+    B[0, 0], u[1, 0] = 7.0, 3.0
+    assert sys.B(0)[0, 0] == 0.5 and sys.input_term(1)[0] == 0.0
+    assert sys.process_noise_image(0).support([1.0, 0.0]) == image
