@@ -1,4 +1,10 @@
-"""Argument checks made once, at the public door (internal ``_op`` variants trust their inputs)."""
+"""Argument checks made once, at the public door (internal ``_op`` variants trust their inputs).
+
+Every check names the argument as the user passed it (``A(2)`` for a callable evaluated at k = 2,
+``A[2]`` for an entry of a sequence, ``u[3]``). Complex input is a `TypeError` everywhere: NumPy's
+``asarray(x, dtype=float)`` would keep the real part of a complex array with only a warning, so an
+Hermitian matrix would silently become a different, real one. The dtype is checked before any cast.
+"""
 
 from __future__ import annotations
 
@@ -7,13 +13,55 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
+#: dtype kinds that are real numbers: bool, signed and unsigned integers, floats.
+_REAL_KINDS = "biuf"
+
+
+def real_array(value: Any, name: str, what: str = "array-like of numbers") -> np.ndarray:
+    """``value`` as a float array, refusing complex, strings and non-numeric objects (TypeError).
+
+    Parameters
+    ----------
+    value : array_like
+    name : str
+        The argument's name as the user knows it, used in the message.
+    what : str
+        What was expected, for the message ("a 2-D array of numbers", ...).
+    """
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError) as exc:  # ragged nested sequences
+        raise TypeError(f"{name} must be {what}, got {type(value).__name__} that is not a "
+                        "rectangular array") from exc
+    kind = arr.dtype.kind
+    if kind == "c" or (kind == "O" and any(isinstance(x, (complex, np.complexfloating)) for x in arr.flat)):
+        raise TypeError(f"{name} must be real, got complex values (their imaginary part would be dropped)")
+    if kind in _REAL_KINDS:
+        return arr.astype(float, copy=False)
+    if kind == "O":
+        try:
+            return arr.astype(float)
+        except (TypeError, ValueError) as exc:
+            raise TypeError(f"{name} must be {what}, got {type(value).__name__}") from exc
+    raise TypeError(f"{name} must be {what}, got {type(value).__name__} of dtype {arr.dtype}")
+
+
+def real_number(value: Any, name: str) -> float:
+    """A real scalar as a float (TypeError for complex, strings, arrays); the caller checks its range.
+
+    A one-element array counts as its element, as ``float()`` takes it.
+    """
+    if isinstance(value, (str, bytes)):
+        raise TypeError(f"{name} must be a real number, got {value!r}")
+    arr = real_array(value, name, "a real number")
+    if arr.size != 1:
+        raise TypeError(f"{name} must be a real number, got an array of shape {arr.shape}")
+    return float(arr.reshape(()))
+
 
 def as_vector(value: Any, name: str, dim: int | None = None, allow_inf: bool = False) -> np.ndarray:
     """Return ``value`` as a 1-D float array, or raise naming ``name`` and the expected shape."""
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be array-like of numbers, got {type(value).__name__}") from exc
+    arr = real_array(value, name, "array-like of numbers")
     if arr.ndim == 0:
         arr = arr.reshape(1)
     if arr.ndim == 2 and 1 in arr.shape:
@@ -33,6 +81,8 @@ def as_matrix(value: Any, name: str, rows: int | None = None, cols: int | None =
               allow_sparse: bool = False) -> np.ndarray | sp.csc_matrix:
     """Return ``value`` as a finite 2-D float array (or CSC matrix when ``allow_sparse``)."""
     if sp.issparse(value):
+        if value.dtype.kind not in _REAL_KINDS:
+            raise TypeError(f"{name} must be real, got a sparse matrix of dtype {value.dtype}")
         if not allow_sparse:
             value = value.toarray()
         else:
@@ -41,10 +91,7 @@ def as_matrix(value: Any, name: str, rows: int | None = None, cols: int | None =
             if not np.isfinite(mat.data).all():
                 raise ValueError(f"{name} contains NaN or inf; expected finite entries")
             return mat
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be a 2-D array of numbers, got {type(value).__name__}") from exc
+    arr = real_array(value, name, "a 2-D array of numbers")
     if arr.ndim == 0:
         arr = arr.reshape(1, 1)
     elif arr.ndim == 1:
@@ -68,7 +115,7 @@ def _check_shape(shape: tuple[int, int], name: str, rows: int | None, cols: int 
 
 def as_directions(value: Any, dim: int, name: str = "D") -> np.ndarray:
     """Return directions as a ``(k, dim)`` array; a single vector becomes one row."""
-    arr = np.asarray(value, dtype=float)
+    arr = real_array(value, name, "an array of directions")
     if arr.ndim == 1:
         arr = arr.reshape(1, -1)
     if arr.ndim != 2 or arr.shape[1] != dim:
@@ -97,7 +144,7 @@ def check_dim(value: Any, name: str) -> int:
 
 def as_measurements(ys: Any, m: int) -> np.ndarray:
     """Measurements y_0..y_T as a finite (T+1, m) array; a 1-D array is accepted when m = 1."""
-    arr = np.asarray(ys, dtype=float)
+    arr = real_array(ys, "ys", "an array of measurements")
     if arr.ndim == 1 and m == 1:
         arr = arr.reshape(-1, 1)
     if arr.ndim != 2 or arr.shape[1] != m or arr.shape[0] < 1:

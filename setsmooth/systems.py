@@ -10,39 +10,45 @@ with A_k = Φ_k, B_k = Γ_k, C_k = Ξ_k, D_k = Ψ_k, and an optional known input
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
-from ._validation import as_matrix, as_vector
+from ._validation import as_matrix, as_vector, check_dim, check_rng, real_array, real_number
+from .sets.algebra import linear_map
 from .sets.base import ConvexSet
 
 MatrixSpec = Any  # an array, a sequence of arrays indexed by k, or a callable k -> array
 
 
 class _TimeVarying:
-    """A matrix that is constant, a sequence indexed by k, or a callable of k; validated once."""
+    """A matrix that is constant, a sequence indexed by k, or a callable of k.
+
+    Constants and sequences are validated once, here. A callable is validated at every call (real,
+    finite, exactly the shape of its value at k = 0; never reshaped): cheap next to the set algebra
+    the value feeds, and the only way to name the step, ``A(2)``, at which a value goes bad. The
+    object holds nothing but the user's data, so it pickles whenever that data does (a module-level
+    callable, a `functools.partial` of one, arrays).
+    """
 
     def __init__(self, spec: MatrixSpec, name: str, rows: int | None, cols: int | None):
         self.name = name
+        self._const = self._seq = self._call = None
         if callable(spec):
-            first = as_matrix(spec(0), f"{name}(0)", rows, cols)
-            self.shape = first.shape
+            self.shape = as_matrix(spec(0), f"{name}(0)", rows, cols).shape
             self._call = spec
-            self._const = None
-            self._seq = None
         elif _is_sequence_of_matrices(spec):
-            seq = [as_matrix(m, f"{name}[{k}]", rows, cols) for k, m in enumerate(spec)]
-            shapes = {m.shape for m in seq}
-            if len(shapes) != 1:
-                raise ValueError(f"{name}: every matrix of the sequence must have one shape, got {shapes}")
+            seq = [_frozen(as_matrix(M, f"{name}[{k}]", rows, cols)) for k, M in enumerate(spec)]
+            for k, M in enumerate(seq):
+                if M.shape != seq[0].shape:
+                    raise ValueError(f"{name}[{k}] has shape {M.shape} but {name}[0] has shape "
+                                     f"{seq[0].shape}: every matrix of the sequence must have one shape")
+            self._seq = seq
             self.shape = seq[0].shape
-            self._seq, self._const, self._call = seq, None, None
         else:
-            self._const = as_matrix(spec, name, rows, cols)
+            self._const = _frozen(as_matrix(spec, name, rows, cols))
             self.shape = self._const.shape
-            self._seq = self._call = None
 
     def __call__(self, k: int) -> np.ndarray:
         if self._const is not None:
@@ -51,20 +57,63 @@ class _TimeVarying:
             if not 0 <= k < len(self._seq):
                 raise IndexError(f"{self.name} is given for k in [0, {len(self._seq)}), asked for k = {k}")
             return self._seq[k]
-        out = np.asarray(self._call(k), dtype=float).reshape(self.shape)
-        return out
+        return as_matrix(self._call(k), f"{self.name}({k})", *self.shape)
 
     @property
     def is_constant(self) -> bool:
         return self._const is not None
 
 
+def _frozen(arr: np.ndarray) -> np.ndarray:
+    """A read-only private copy: the system (and the noise images it caches) cannot change under us."""
+    arr = np.array(arr, dtype=float, copy=True)
+    arr.flags.writeable = False
+    return arr
+
+
 def _is_sequence_of_matrices(spec: Any) -> bool:
+    """A 3-D array, or a list/tuple whose first entry is 2-D (its entries are validated one by one)."""
     if isinstance(spec, np.ndarray):
         return spec.ndim == 3
-    if isinstance(spec, Sequence) and len(spec) and not isinstance(spec, str):
-        return np.ndim(spec[0]) == 2 and np.ndim(spec) == 3
+    if isinstance(spec, (list, tuple)) and len(spec) and not isinstance(spec[0], str):
+        try:
+            return np.ndim(spec[0]) == 2
+        except ValueError:  # a ragged first entry: as_matrix names it
+            return False
     return False
+
+
+class _InputTerm:
+    """The known term u_k: an array of rows u[k] validated once, or a callable validated per call."""
+
+    def __init__(self, u: Any, n: int):
+        self.n = n
+        self._rows = self._call = None
+        if callable(u):
+            as_vector(u(0), "u(0)", n)
+            self._call = u
+            return
+        rows = real_array(u, "u", f"an array of shape (T, n={n})")
+        if rows.ndim != 2 or rows.shape[1] != n:
+            raise ValueError(f"u must have shape (T, n={n}) (the term added to x_(k+1)), got {rows.shape}")
+        bad = np.flatnonzero(~np.isfinite(rows).all(axis=1))
+        if bad.size:
+            as_vector(rows[bad[0]], f"u[{bad[0]}]", n)  # raises, naming the first bad row
+        self._rows = _frozen(rows)
+
+    def __call__(self, k: int) -> np.ndarray:
+        if self._rows is not None:
+            if not 0 <= k < len(self._rows):
+                raise IndexError(f"u is given for k in [0, {len(self._rows)}), asked for k = {k}")
+            return self._rows[k]
+        return as_vector(self._call(k), f"u({k})", self.n)
+
+
+def _check_noise_columns(M: _TimeVarying, set_name: str, S: ConvexSet) -> None:
+    """Γ must have one column per coordinate of W (Ψ: of V); the message names both."""
+    if M.shape[1] != S.dim:
+        raise ValueError(f"{M.name} must have {set_name}.dim = {S.dim} columns (one per coordinate of the "
+                         f"noise), got shape {M.shape}; check {M.name} and {set_name}")
 
 
 class LinearSystem:
@@ -74,7 +123,8 @@ class LinearSystem:
     ----------
     A, B, C, D : array_like, sequence of arrays, or callable k -> array
         Φ_k (n×n), Γ_k (n×p), Ξ_k (m×n), Ψ_k (m×q) of smoothing paper (13)–(14). A sequence is indexed
-        by k; a callable is called with k.
+        by k; a callable is called with k, and its value is checked at every call (real, finite, the
+        shape of its value at k = 0).
     W, V : ConvexSet
         Ranges of the process noise (dim p) and the measurement noise (dim q).
     u : array_like of shape (T, n), or callable k -> (n,), optional
@@ -82,8 +132,16 @@ class LinearSystem:
 
     Raises
     ------
+    TypeError
+        When a matrix or input is complex or not numeric, or W/V is not a `ConvexSet`.
     ValueError
-        When dimensions of matrices and noise sets disagree.
+        When dimensions of matrices and noise sets disagree, or a value is NaN or infinite; the
+        message names it as given (``A``, ``A[2]`` for a sequence, ``A(0)`` for a callable, ``u[3]``).
+
+    Notes
+    -----
+    The system is picklable whenever its callables are (module-level functions or
+    `functools.partial` objects, not lambdas), so it can be sent to a process pool.
 
     Examples
     --------
@@ -103,32 +161,75 @@ class LinearSystem:
         n = self.A.shape[0]
         if self.A.shape != (n, n):
             raise ValueError(f"A must be square, got shape {self.A.shape}")
-        self.B = _TimeVarying(B, "B", n, W.dim)
+        self.B = _TimeVarying(B, "B", n, None)
+        _check_noise_columns(self.B, "W", W)
         self.C = _TimeVarying(C, "C", None, n)
         m = self.C.shape[0]
-        self.D = _TimeVarying(D, "D", m, V.dim)
+        self.D = _TimeVarying(D, "D", m, None)
+        _check_noise_columns(self.D, "V", V)
         self.W, self.V = W, V
         self.n, self.m, self.p, self.q = n, m, W.dim, V.dim
-        self._u = self._input(u)
+        self._u = None if u is None else _InputTerm(u, n)
+        self._images: dict[str, ConvexSet] = {}
 
-    def _input(self, u: Any) -> Callable[[int], np.ndarray] | None:
-        if u is None:
-            return None
-        if callable(u):
-            return lambda k: as_vector(u(k), f"u({k})", self.n)
-        arr = np.asarray(u, dtype=float)
-        if arr.ndim != 2 or arr.shape[1] != self.n:
-            raise ValueError(f"u must have shape (T, n={self.n}) (the term added to x_(k+1)), "
-                             f"got {arr.shape}")
-        return lambda k: arr[k]
+    # -- pickling: the cached noise images are recomputed on demand ------------------------------
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        state["_images"] = {}
+        return state
 
     @property
     def is_time_invariant(self) -> bool:
         return all(M.is_constant for M in (self.A, self.B, self.C, self.D)) and self._u is None
 
+    @property
+    def has_input(self) -> bool:
+        """Whether a known input term u was given."""
+        return self._u is not None
+
     def input_term(self, k: int) -> np.ndarray:
         """The known term u_k added to x_{k+1} (zeros without input)."""
         return np.zeros(self.n) if self._u is None else self._u(k)
+
+    def nonzero_input(self, k: int) -> np.ndarray | None:
+        """u_k, or None when there is no input or u_k = 0: a zero term is no translation to make."""
+        if self._u is None:
+            return None
+        u = self._u(k)
+        return u if u.any() else None
+
+    def process_noise_image(self, k: int, *, negated: bool = False) -> ConvexSet:
+        """Γ_k W (or Γ_k(−W), the smoother's term in smoothing (15)), computed once when Γ is constant.
+
+        Parameters
+        ----------
+        k : int
+        negated : bool
+            Return Γ_k(−W) instead of Γ_k W.
+
+        Returns
+        -------
+        ConvexSet
+            Built by the trusted set algebra from matrices this system validated: the same set
+            ``B(k) @ W`` (``B(k) @ -W``) gives, shared by every step when B is constant.
+        """
+        key = "-BW" if negated else "BW"
+        image = self._images.get(key)
+        if image is None:
+            W = linear_map(-np.eye(self.p), self.W) if negated else self.W
+            image = linear_map(self.B(k), W)
+            if self.B.is_constant:
+                self._images[key] = image
+        return image
+
+    def measurement_noise_image(self, k: int) -> ConvexSet:
+        """Ψ_k(−V), the set y_k − C_k x_k must lie in (stability (4)), computed once when Ψ is constant."""
+        image = self._images.get("-DV")
+        if image is None:
+            image = linear_map(self.D(k), linear_map(-np.eye(self.q), self.V))
+            if self.D.is_constant:
+                self._images["-DV"] = image
+        return image
 
     def step(self, k: int, x: np.ndarray, w: np.ndarray) -> np.ndarray:
         """x_{k+1} for a realized process noise w_k."""
@@ -164,8 +265,9 @@ class LinearSystem:
             raise TypeError(f"statespace must be a control.StateSpace, got {type(statespace).__name__}")
         sys_d = statespace
         if statespace.isctime():
-            if dt is None or not dt > 0:
-                raise ValueError("dt must be a positive sampling time to discretize a continuous model")
+            if dt is None or not real_number(dt, "dt") > 0:
+                raise ValueError(f"dt must be a positive sampling time to discretize a continuous model, "
+                                 f"got {dt!r}")
             sys_d = control.c2d(statespace, dt, method=method)
         if np.any(np.asarray(sys_d.D) != 0):
             raise ValueError("statespace must have zero feedthrough D (noise w must not reach y directly)")
@@ -185,6 +287,14 @@ class NonlinearSystem:
         Noise ranges.
     n : int
         State dimension.
+
+    Raises
+    ------
+    TypeError
+        When f or g is not callable, W or V is not a `ConvexSet`, or n is not an integer.
+    ValueError
+        When n < 1. `step` and `measure` raise naming ``f(k, x, w)``/``g(k, x, v)`` when a value is
+        complex (TypeError), NaN/inf or of the wrong length (ValueError).
     """
 
     def __init__(self, f: Callable, g: Callable, W: ConvexSet, V: ConvexSet, n: int):
@@ -193,15 +303,15 @@ class NonlinearSystem:
         for name, S in (("W", W), ("V", V)):
             if not isinstance(S, ConvexSet):
                 raise TypeError(f"{name} must be a ConvexSet, got {type(S).__name__}")
-        self.f, self.g, self.W, self.V, self.n = f, g, W, V, int(n)
+        self.f, self.g, self.W, self.V, self.n = f, g, W, V, check_dim(n, "n")
 
     def step(self, k: int, x: np.ndarray, w: np.ndarray) -> np.ndarray:
         """x_{k+1} = f(k, x_k, w_k) for a realized process noise (smoothing paper (4))."""
-        return np.asarray(self.f(k, x, w), dtype=float).reshape(self.n)
+        return as_vector(self.f(k, x, w), f"f({k}, x, w)", self.n)
 
     def measure(self, k: int, x: np.ndarray, v: np.ndarray) -> np.ndarray:
         """y_k = g(k, x_k, v_k) for a realized measurement noise (smoothing paper (5))."""
-        return np.atleast_1d(np.asarray(self.g(k, x, v), dtype=float))
+        return as_vector(self.g(k, x, v), f"g({k}, x, v)")
 
 
 def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator,
@@ -218,7 +328,7 @@ def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator,
     rng : numpy.random.Generator
         The only source of randomness.
     x0 : array_like, optional
-        A fixed initial state (must lie in ``x0_set``).
+        A fixed initial state; it must lie in ``x0_set`` (membership up to the default margin).
 
     Returns
     -------
@@ -227,19 +337,34 @@ def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator,
     ys : ndarray, shape (T+1, m)
         Measurements y_0..y_T.
 
+    Raises
+    ------
+    TypeError
+        When ``rng`` is not a Generator, ``T`` not an integer, or ``x0`` complex or not numeric.
+    ValueError
+        When ``T < 0``, ``x0_set`` has the wrong dimension, or ``x0`` is NaN/inf, of the wrong length
+        or outside ``x0_set``; or a matrix, input or transition value at some step is bad (named
+        as ``A(k)``, ``u(k)``, ``f(k, x, w)``).
+
     Notes
     -----
     Uniform draws use each set's ``sample``: direct for boxes and ellipsoids, rejection from the
     interval hull (one membership LP per proposal) otherwise. All draws are made up front in a fixed
     order (x_0, then w_0..w_{T-1}, then v_0..v_T), so a seed fixes the whole trajectory.
     """
-    if not isinstance(rng, np.random.Generator):
-        raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-    if isinstance(T, bool) or not isinstance(T, (int, np.integer)) or T < 0:
+    check_rng(rng)
+    if isinstance(T, bool) or not isinstance(T, (int, np.integer)):
+        raise TypeError(f"T must be a non-negative integer, got {T!r}")
+    if T < 0:
         raise ValueError(f"T must be a non-negative integer, got {T!r}")
     if not isinstance(x0_set, ConvexSet) or x0_set.dim != system.n:
         raise ValueError(f"x0_set must be a ConvexSet of dimension n = {system.n}")
-    x = x0_set.sample(rng, 1)[0] if x0 is None else as_vector(x0, "x0", system.n)
+    if x0 is None:
+        x = x0_set.sample(rng, 1)[0]
+    else:
+        x = as_vector(x0, "x0", system.n)
+        if not x0_set.contains(x):
+            raise ValueError(f"x0 = {x.tolist()} does not lie in x0_set")
     ws = system.W.sample(rng, T) if T > 0 else np.zeros((0, system.W.dim))
     vs = system.V.sample(rng, T + 1)
     xs = [x]

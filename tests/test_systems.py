@@ -1,3 +1,6 @@
+import functools
+import pickle
+
 import control
 import numpy as np
 import pytest
@@ -66,9 +69,11 @@ def test_from_statespace_rejects_feedthrough():
 
 @pytest.mark.parametrize("kwargs, match", [
     (dict(A=np.ones((2, 3))), "A must be square"),
-    (dict(B=np.ones((3, 1))), r"B must have shape \(2, 1\)"),
+    (dict(B=np.ones((3, 1))), r"B must have shape \(2, any\)"),
+    (dict(W=ss.Box([-1, -1], [1, 1])), r"B must have W.dim = 2 columns .* check B and W"),
     (dict(C=np.ones((1, 3))), r"C must have shape \(any, 2\)"),
-    (dict(D=np.ones((1, 2))), r"D must have shape \(1, 1\)"),
+    (dict(D=np.ones((1, 2))), r"D must have V.dim = 1 columns .* check D and V"),
+    (dict(A=[np.eye(2), np.eye(3)]), r"A\[1\] has shape \(3, 3\) but A\[0\] has shape \(2, 2\)"),
     (dict(W="box"), "W must be a ConvexSet"),
     (dict(u=np.ones((5, 3))), r"u must have shape \(T, n=2\)"),
 ])
@@ -96,3 +101,74 @@ def test_nonlinear_system_simulates_the_cube_root_example():
     xs, ys = ss.simulate(sys, ss.Box([-5], [5]), 20, np.random.default_rng(3))
     v = ys[:, 0] - 2 * xs[:, 0]
     assert np.all((v >= 1) & (v <= 3))
+
+
+# -- pickling (a system goes to a process pool with its inputs) -------------------------------------
+def rotation(k):
+    a = 0.1 * k
+    return 0.95 * np.array([[np.cos(a), np.sin(a)], [-np.sin(a), np.cos(a)]])
+
+
+def drift(k, scale=0.1):
+    return np.array([scale * k, -scale])
+
+
+def _systems_to_pickle():
+    W, V = ss.Box([-1.0], [1.0]), ss.Box([-1.0, -1.0], [1.0, 1.0])
+    B, C, D = [[0.5], [1.0]], [[0.5, 0.5], [1.0, 0.3]], np.eye(2)
+    A = rotation(0)
+    return {
+        "u sequence": ss.LinearSystem(A, B, C, D, W, V, u=np.arange(12.0).reshape(6, 2) / 10),
+        "u callable": ss.LinearSystem(A, B, C, D, W, V, u=drift),
+        "u partial": ss.LinearSystem(A, B, C, D, W, V, u=functools.partial(drift, scale=0.3)),
+        "A callable": ss.LinearSystem(rotation, B, C, D, W, V),
+        "A sequence": ss.LinearSystem([rotation(k) for k in range(6)], B, C, D, W, V),
+        "B sequence": ss.LinearSystem(A, np.array([B] * 6) * 0.5, C, D, W, V),
+    }
+
+
+@pytest.mark.parametrize("name", list(_systems_to_pickle()))
+def test_linear_system_pickles_with_its_inputs_and_time_varying_matrices(name):
+    sys = _systems_to_pickle()[name]
+    sys.process_noise_image(0)  # a cached image must not stop (or bloat) the pickle
+    copy = pickle.loads(pickle.dumps(sys))
+    for k in range(5):
+        for M in ("A", "B", "C", "D"):
+            assert np.array_equal(getattr(copy, M)(k), getattr(sys, M)(k))
+        assert np.array_equal(copy.input_term(k), sys.input_term(k))
+    X0 = ss.Box([-5, -5], [5, 5])
+    _, ys = ss.simulate(sys, X0, 5, np.random.default_rng(0))
+    d = np.eye(2)
+    ours, theirs = ss.classical_filter(copy, X0, ys)[-1], ss.classical_filter(sys, X0, ys)[-1]
+    assert np.allclose(ours.support_many(d), theirs.support_many(d), rtol=0, atol=1e-9)
+
+
+def test_a_callable_matrix_is_checked_at_every_call_and_never_reshaped():
+    sys = ss.LinearSystem(lambda k: np.eye(2) if k < 3 else np.ones(4), np.eye(2), np.eye(2), np.eye(2),
+                          ss.Box([-1, -1], [1, 1]), ss.Box([-1, -1], [1, 1]))
+    assert np.array_equal(sys.A(2), np.eye(2))
+    with pytest.raises(ValueError, match=r"A\(3\) must have shape \(2, 2\), got \(1, 4\)"):
+        sys.A(3)
+
+
+def test_input_sequence_names_the_step_it_lacks():
+    sys = ss.LinearSystem(np.eye(2), np.eye(2), np.eye(2), np.eye(2), ss.Box([-1, -1], [1, 1]),
+                          ss.Box([-1, -1], [1, 1]), u=np.zeros((3, 2)))
+    with pytest.raises(IndexError, match=r"u is given for k in \[0, 3\), asked for k = 3"):
+        sys.input_term(3)
+
+
+def test_simulate_refuses_an_initial_state_outside_x0_set():
+    with pytest.raises(ValueError, match=r"x0 = \[1.5, 0.0\] does not lie in x0_set"):
+        ss.simulate(example_31(), ss.Box([-1, -1], [1, 1]), 3, np.random.default_rng(), x0=[1.5, 0.0])
+    xs, _ = ss.simulate(example_31(), ss.Box([-1, -1], [1, 1]), 3, np.random.default_rng(), x0=[1.0, 0.0])
+    assert np.array_equal(xs[0], [1.0, 0.0])
+
+
+def test_the_system_keeps_private_copies_of_its_matrices_and_inputs():
+    B, u = np.array([[0.5], [1.0]]), np.zeros((4, 2))
+    sys = ss.LinearSystem(np.eye(2), B, np.eye(2), np.eye(2), ss.Box([-1], [1]), ss.Box([-1, -1], [1, 1]), u=u)
+    image = sys.process_noise_image(0).support([1.0, 0.0])
+    B[0, 0], u[1, 0] = 7.0, 3.0
+    assert sys.B(0)[0, 0] == 0.5 and sys.input_term(1)[0] == 0.0
+    assert sys.process_noise_image(0).support([1.0, 0.0]) == image

@@ -14,7 +14,8 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_measurements
+from .._validation import as_measurements, as_vector
+from ..sets.algebra import generalized_intersection, linear_map, minkowski_sum, translate
 from ..sets.base import ConvexSet
 from ..sets.empty import EmptySet
 
@@ -41,15 +42,13 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, detect_empty: bool = Tru
         inconsistent with the model (ill-posedness is data, not an exception).
     """
     ys = as_measurements(ys, system.m)
-    if not isinstance(X0, ConvexSet) or X0.dim != system.n:
-        raise ValueError(f"X0 must be a ConvexSet of dimension n = {system.n}")
-    minus_V = -system.V
+    _check_state_set(X0, "X0", system.n)
     posteriors: list[ConvexSet] = []
     prior = X0
     for k, y in enumerate(ys):
         if k > 0:
-            prior = predict(system, k - 1, posteriors[-1])
-        posterior = update(system, k, prior, y, minus_V)
+            prior = _predict(system, k - 1, posteriors[-1])
+        posterior = _update(system, k, prior, y)
         if detect_empty and not isinstance(posterior, EmptySet) and posterior.is_empty():
             posterior = EmptySet(system.n)
         posteriors.append(posterior)
@@ -57,11 +56,71 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, detect_empty: bool = Tru
 
 
 def predict(system, k: int, posterior: ConvexSet) -> ConvexSet:
-    """⟦x_{k+1} | y_{0:k}⟧ = A_k ⟦x_k | y_{0:k}⟧ ⊕ B_k W ⊕ {u_k} (stability (3), CZ form (20))."""
-    return system.A(k) @ posterior + system.B(k) @ system.W + system.input_term(k)
+    """⟦x_{k+1} | y_{0:k}⟧ = A_k ⟦x_k | y_{0:k}⟧ ⊕ B_k W ⊕ {u_k} (stability (3), CZ form (20)).
+
+    Parameters
+    ----------
+    system : LinearSystem
+    k : int
+        Time step of ``posterior``.
+    posterior : ConvexSet
+        ⟦x_k | y_{0:k}⟧, of dimension n.
+
+    Returns
+    -------
+    ConvexSet
+        The prior ⟦x_{k+1} | y_{0:k}⟧; B_k W is the system's cached image when B is constant, and a
+        zero u_k adds no translation.
+
+    Raises
+    ------
+    ValueError
+        When ``posterior`` is not a set of dimension n.
+    """
+    _check_state_set(posterior, "posterior", system.n)
+    return _predict(system, k, posterior)
 
 
-def update(system, k: int, prior: ConvexSet, y: np.ndarray, minus_V: ConvexSet | None = None) -> ConvexSet:
-    """⟦x_k | y_{0:k}⟧ = prior ∩_{C_k} (y_k ⊕ D_k(−V)) (stability (4), CZ form (21))."""
-    minus_V = -system.V if minus_V is None else minus_V
-    return prior.intersect_preimage(system.C(k), system.D(k) @ minus_V + y)
+def update(system, k: int, prior: ConvexSet, y: Any) -> ConvexSet:
+    """⟦x_k | y_{0:k}⟧ = prior ∩_{C_k} (y_k ⊕ D_k(−V)) (stability (4), CZ form (21)).
+
+    Parameters
+    ----------
+    system : LinearSystem
+    k : int
+        Time step of the measurement.
+    prior : ConvexSet
+        ⟦x_k | y_{0:k−1}⟧, of dimension n.
+    y : array_like, shape (m,)
+        The measurement y_k.
+
+    Returns
+    -------
+    ConvexSet
+        The posterior; D_k(−V) is the system's cached image when D is constant.
+
+    Raises
+    ------
+    ValueError, TypeError
+        When ``prior`` is not a set of dimension n, or ``y`` is not a finite real vector of length m.
+    """
+    _check_state_set(prior, "prior", system.n)
+    return _update(system, k, prior, as_vector(y, "y", system.m))
+
+
+# The loop's steps trust their operands: the matrices were validated by the LinearSystem (a callable's
+# value at each call), the sets and measurements by the public door above, so they go straight to the
+# set algebra instead of through the operators, which would validate every matrix again every step.
+def _predict(system, k: int, posterior: ConvexSet) -> ConvexSet:
+    prior = minkowski_sum(linear_map(system.A(k), posterior), system.process_noise_image(k))
+    u = system.nonzero_input(k)
+    return prior if u is None else translate(prior, u)
+
+
+def _update(system, k: int, prior: ConvexSet, y: np.ndarray) -> ConvexSet:
+    return generalized_intersection(prior, system.C(k), translate(system.measurement_noise_image(k), y))
+
+
+def _check_state_set(S: Any, name: str, n: int) -> None:
+    if not isinstance(S, ConvexSet) or S.dim != n:
+        raise ValueError(f"{name} must be a ConvexSet of dimension n = {n}")

@@ -23,6 +23,8 @@ from typing import Any
 
 import numpy as np
 
+from .._validation import real_array, real_number
+
 
 @dataclass(frozen=True)
 class IntervalEstimates:
@@ -43,8 +45,8 @@ class IntervalEstimates:
     hi: np.ndarray
 
     def __post_init__(self) -> None:
-        lo = np.array(self.lo, dtype=float).reshape(-1) if np.ndim(self.lo) <= 1 else None
-        hi = np.array(self.hi, dtype=float).reshape(-1) if np.ndim(self.hi) <= 1 else None
+        lo = real_array(self.lo, "lo").reshape(-1).copy() if np.ndim(self.lo) <= 1 else None
+        hi = real_array(self.hi, "hi").reshape(-1).copy() if np.ndim(self.hi) <= 1 else None
         if lo is None or hi is None or lo.shape != hi.shape:
             raise ValueError(f"lo and hi must be 1-D arrays of one length (T+1,), got shapes "
                              f"{np.shape(self.lo)} and {np.shape(self.hi)}")
@@ -113,9 +115,11 @@ def interval_filter(eta: Callable[[float], float], w_interval: Any, x0_interval:
     if not callable(measurement_interval):
         raise TypeError("measurement_interval must be a callable (k, y_k) -> (lo, hi), got "
                         f"{type(measurement_interval).__name__}")
-    ys = np.asarray(ys)
+    ys = real_array(ys, "ys", "an array of measurements")
     if ys.ndim < 1 or ys.shape[0] < 1:
         raise ValueError(f"ys must have shape (T+1,) or (T+1, m) with T >= 0, got {ys.shape}")
+    if not np.isfinite(ys).all():
+        raise ValueError("ys contains NaN or inf")
     steps = ys.shape[0]
     w = _noise_intervals(w_interval, steps - 1)
     lo0, hi0 = _interval(x0_interval, "x0_interval", allow_inf=True)
@@ -140,7 +144,7 @@ def interval_filter(eta: Callable[[float], float], w_interval: Any, x0_interval:
 
 def _noise_intervals(w_interval: Any, T: int) -> np.ndarray:
     """Return the process-noise ranges as a (T, 2) array of finite [w_lo, w_hi] rows."""
-    arr = np.asarray(w_interval, dtype=float)
+    arr = real_array(w_interval, "w_interval", "an array of intervals [w_lo, w_hi]")
     if arr.shape == (2,):
         arr = np.broadcast_to(arr, (T, 2))
     if arr.shape != (T, 2):
@@ -154,17 +158,14 @@ def _noise_intervals(w_interval: Any, T: int) -> np.ndarray:
 
 def _eval_eta(eta: Callable[[float], float], x: float) -> float:
     """η(x) as a float, raising ValueError when η returns NaN."""
-    value = float(eta(float(x)))
+    value = real_number(eta(float(x)), f"eta({float(x)!r})")
     if np.isnan(value):
         raise ValueError(f"eta({float(x)!r}) returned NaN; eta must be defined on all of R")
     return value
 
 
 def _interval(value: Any, name: str, allow_inf: bool) -> tuple[float, float]:
-    try:
-        arr = np.asarray(value, dtype=float).reshape(-1)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be a pair of numbers (lo, hi), got {value!r}") from exc
+    arr = real_array(value, name, "a pair of numbers (lo, hi)").reshape(-1)
     if arr.shape != (2,):
         raise ValueError(f"{name} must be a pair (lo, hi) of shape (2,), got shape {np.shape(value)}")
     if np.isnan(arr).any() or (not allow_inf and np.isinf(arr).any()):

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_matrix, as_measurements, as_vector, check_dim
+from .._validation import as_matrix, as_measurements, as_vector, check_dim, real_number
 
 
 @dataclass(frozen=True)
@@ -187,7 +187,7 @@ def _validate(system: Any, ys: Any, x0_mean: Any, P0: Any) -> tuple[int, np.ndar
 
 def _noise_covariance(value: Any, name: str, dim: int) -> np.ndarray:
     if np.ndim(value) == 0:
-        scale = float(value)
+        scale = real_number(value, name)
         if not np.isfinite(scale) or scale < 0:
             raise ValueError(f"{name} must be a non-negative scalar or a ({dim}, {dim}) matrix, got {value}")
         return scale * np.eye(dim)

@@ -16,7 +16,7 @@ import cvxpy as cp
 import numpy as np
 
 from .. import tolerances as tol
-from .._validation import as_directions, as_matrix, as_vector
+from .._validation import as_directions, as_matrix, as_vector, real_number
 from ..solvers import GenericProgram
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -159,9 +159,10 @@ class ConvexSet(ABC):
     def _margin(p: np.ndarray, given: float | None) -> float:
         if given is None:
             return tol.scaled(tol.MEMBERSHIP_TOL, np.abs(p).max(initial=0.0))
-        if not np.isfinite(given) or given < 0:
+        value = real_number(given, "tol")
+        if not np.isfinite(value) or value < 0:
             raise ValueError(f"tol must be a finite non-negative number, got {given}")
-        return float(given)
+        return value
 
     # -- derived geometry ----------------------------------------------------------------------------
     def interval_hull(self, *, path: str = "auto", certified: bool = False) -> "Box | ConvexSet":

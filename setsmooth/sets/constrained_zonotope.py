@@ -22,7 +22,7 @@ import cvxpy as cp
 import numpy as np
 import scipy.sparse as sp
 
-from .._validation import as_matrix, as_vector
+from .._validation import as_matrix, as_vector, real_array
 from ..solvers import CZProgram, FactorConstraints
 from . import _matrices as mx
 from .base import ConvexSet
@@ -71,10 +71,8 @@ class ConstrainedZonotope(ConvexSet):
         if h is None:
             h = np.ones(ng)
         else:
-            try:
-                h = np.asarray(h, dtype=float).reshape(-1) if np.ndim(h) else np.full(ng, float(h))
-            except (TypeError, ValueError) as exc:
-                raise TypeError(f"h must be array-like of numbers, got {h!r}") from exc
+            h = real_array(h, "h")
+            h = h.reshape(-1) if h.ndim else np.full(ng, float(h))
             if h.shape != (ng,):
                 raise ValueError(f"h must have length ng = {ng}, got shape {h.shape}")
             if np.isnan(h).any() or (h < 0).any():

@@ -22,6 +22,7 @@ from typing import Any
 
 from .._validation import as_measurements
 from ..filters.classical import classical_filter
+from ..sets.algebra import generalized_intersection, minkowski_sum, translate
 from ..sets.base import ConvexSet
 from .trajectory import trajectory_set
 
@@ -63,22 +64,66 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "recursion
 
 
 def smooth(system, posteriors: list[ConvexSet]) -> list[ConvexSet]:
-    """The backward pass of smoothing Algorithm 1 on given posteriors (any representation)."""
-    minus_W = -system.W
+    """The backward pass of smoothing Algorithm 1 on given posteriors (any representation).
+
+    Parameters
+    ----------
+    system : LinearSystem
+    posteriors : list of ConvexSet
+        ⟦x_k | y_{0:k}⟧ for k = 0..T, each of dimension n (validated once, before the loop).
+
+    Returns
+    -------
+    list of ConvexSet
+        ``smoothed[k]`` = ⟦x_k | y_{0:T}⟧.
+    """
+    if len(posteriors) < 1:
+        raise ValueError("posteriors must hold at least one set")
+    for k, P in enumerate(posteriors):
+        _check_state_set(P, f"posteriors[{k}]", system.n)
     T = len(posteriors) - 1
     smoothed: list[ConvexSet] = [posteriors[T]]
     for k in range(T - 1, -1, -1):
-        smoothed.append(smoothing_step(system, k, posteriors[k], smoothed[-1], minus_W))
+        smoothed.append(_smoothing_step(system, k, posteriors[k], smoothed[-1]))
     return smoothed[::-1]
 
 
-def smoothing_step(system, k: int, posterior: ConvexSet, next_smoothed: ConvexSet,
-                   minus_W: ConvexSet | None = None) -> ConvexSet:
-    """⟦x_k | y_{0:T}⟧ from ⟦x_k | y_{0:k}⟧ and ⟦x_{k+1} | y_{0:T}⟧ (smoothing (15)/(25); CZ: (24))."""
-    # An empty next_smoothed needs no case here: the set algebra absorbs the empty set.
-    minus_W = -system.W if minus_W is None else minus_W
-    reachable_from = next_smoothed + system.B(k) @ minus_W - system.input_term(k)
-    return posterior.intersect_preimage(system.A(k), reachable_from)
+def smoothing_step(system, k: int, posterior: ConvexSet, next_smoothed: ConvexSet) -> ConvexSet:
+    """⟦x_k | y_{0:T}⟧ from ⟦x_k | y_{0:k}⟧ and ⟦x_{k+1} | y_{0:T}⟧ (smoothing (15)/(25); CZ: (24)).
+
+    Parameters
+    ----------
+    system : LinearSystem
+    k : int
+    posterior : ConvexSet
+        ⟦x_k | y_{0:k}⟧, of dimension n.
+    next_smoothed : ConvexSet
+        ⟦x_{k+1} | y_{0:T}⟧, of dimension n.
+
+    Returns
+    -------
+    ConvexSet
+        {x ∈ posterior : A_k x ∈ next_smoothed ⊕ B_k(−W) − u_k}; B_k(−W) is the system's cached image
+        when B is constant, and a zero u_k adds no translation.
+    """
+    _check_state_set(posterior, "posterior", system.n)
+    _check_state_set(next_smoothed, "next_smoothed", system.n)
+    return _smoothing_step(system, k, posterior, next_smoothed)
+
+
+def _smoothing_step(system, k: int, posterior: ConvexSet, next_smoothed: ConvexSet) -> ConvexSet:
+    # Trusted operands (matrices validated by the LinearSystem, sets by the public door), so the set
+    # algebra is called directly. An empty next_smoothed needs no case here: the algebra absorbs it.
+    reachable_from = minkowski_sum(next_smoothed, system.process_noise_image(k, negated=True))
+    u = system.nonzero_input(k)
+    if u is not None:
+        reachable_from = translate(reachable_from, -u)
+    return generalized_intersection(posterior, system.A(k), reachable_from)
+
+
+def _check_state_set(S: Any, name: str, n: int) -> None:
+    if not isinstance(S, ConvexSet) or S.dim != n:
+        raise ValueError(f"{name} must be a ConvexSet of dimension n = {n}")
 
 
 def smoothed_ranges_from_trajectories(trajectories: ConvexSet, n: int) -> list[ConvexSet]:

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import brentq
 
+from .._validation import real_number
 from ..filters.interval import IntervalEstimates, _eval_eta, _noise_intervals
 
 # brentq stops when the bracket is below _XTOL + _RTOL·|x|, i.e. at about machine precision.
@@ -169,7 +170,7 @@ def _smoothed_upper(eta, eta_inverse, target: float, a: float, b: float) -> floa
 
 
 def _checked(eta_inverse: Callable[[float], float], value: float) -> float:
-    out = float(eta_inverse(float(value)))
+    out = real_number(eta_inverse(float(value)), f"eta_inverse({float(value)!r})")
     if np.isnan(out):
         raise ValueError(f"eta_inverse({value!r}) returned NaN")
     return out

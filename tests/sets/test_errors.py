@@ -290,3 +290,18 @@ def test_polygon_queries_need_bounded_2d_sets():
         ss.HPolytope([[1.0, 0.0]], [1.0]).area()
     with pytest.raises(ValueError, match="dims must name two coordinates"):
         BOX2.plot(dims=(0, 1, 1))
+
+
+# -- complex input is refused, never cast to its real part ------------------------------------------
+
+@pytest.mark.parametrize("make", [
+    lambda: ss.Ellipsoid([0.0, 0.0], [[2.0, 1j], [-1j, 2.0]]),  # Hermitian PD, its real part is 2 I
+    lambda: ss.Box(np.array([0.0, 1e-9j]), [1, 1]),
+    lambda: ss.Zonotope(sp.csc_matrix(np.eye(2) * (1 + 0j)), [0, 0]),
+    lambda: ss.ConstrainedZonotope(np.eye(2), [0, 0], h=np.array([1, 1], dtype=complex)),
+    lambda: np.eye(2, dtype=complex) @ BOX2,
+    lambda: BOX2.contains([0.5, 0.5], tol=np.complex128(1e-3)),
+])
+def test_complex_input_is_a_type_error_not_its_real_part(make):
+    with pytest.raises(TypeError, match="must be real, got complex|must be real, got a sparse matrix"):
+        make()
