@@ -6,9 +6,10 @@ from .sets import (Box, CartesianProduct, ConstrainedZonotope, ConvexSet, Ellips
 from . import montecarlo
 from .filters import (IntervalEstimates, KalmanResult, classical_filter, interval_filter, kalman_filter,
                       rts_smoother)
-from .smoothers import interval_smoother, optimal_smoother, trajectory_set
+from .smoothers import interval_smoother, optimal_smoother
 from .solvers import SolverError
 from .systems import LinearSystem, NonlinearSystem, simulate
+from .trajectories import filtering_map, trajectory_set
 
 __version__ = "0.1.0"
 
@@ -16,6 +17,6 @@ __all__ = [
     "ConvexSet", "Box", "Zonotope", "ConstrainedZonotope", "HPolytope", "Ellipsoid", "EmptySet",
     "Reals", "LinearMap", "MinkowskiSum", "Intersection", "GeneralizedIntersection",
     "CartesianProduct", "SolverError", "LinearSystem", "NonlinearSystem", "simulate",
-    "classical_filter", "optimal_smoother", "trajectory_set", "interval_filter", "interval_smoother",
+    "classical_filter", "optimal_smoother", "trajectory_set", "filtering_map", "interval_filter", "interval_smoother",
     "IntervalEstimates", "kalman_filter", "rts_smoother", "KalmanResult", "montecarlo",
 ]

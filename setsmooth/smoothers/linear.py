@@ -23,7 +23,7 @@ from typing import Any
 from .._validation import as_measurements
 from ..filters.classical import classical_filter
 from ..sets.base import ConvexSet
-from .trajectory import trajectory_set
+from ..trajectories import trajectory_set
 
 _METHODS = ("recursion", "trajectory")
 
