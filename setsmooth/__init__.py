@@ -4,8 +4,8 @@ from .sets import (Box, CartesianProduct, ConstrainedZonotope, ConvexSet, Ellips
                    GeneralizedIntersection, HPolytope, Intersection, LinearMap, MinkowskiSum, Reals,
                    Zonotope)
 from . import montecarlo
-from .filters import (IntervalEstimates, KalmanResult, classical_filter, interval_filter, kalman_filter,
-                      rts_smoother)
+from .filters import KalmanResult, classical_filter, interval_filter, kalman_filter, rts_smoother
+from .intervals import IntervalEstimates
 from .smoothers import interval_smoother, optimal_smoother
 from .solvers import SolverError
 from .systems import LinearSystem, NonlinearSystem, simulate
@@ -17,6 +17,7 @@ __all__ = [
     "ConvexSet", "Box", "Zonotope", "ConstrainedZonotope", "HPolytope", "Ellipsoid", "EmptySet",
     "Reals", "LinearMap", "MinkowskiSum", "Intersection", "GeneralizedIntersection",
     "CartesianProduct", "SolverError", "LinearSystem", "NonlinearSystem", "simulate",
-    "classical_filter", "optimal_smoother", "trajectory_set", "filtering_map", "interval_filter", "interval_smoother",
+    "classical_filter", "optimal_smoother", "trajectory_set", "filtering_map", "interval_filter",
+    "interval_smoother",
     "IntervalEstimates", "kalman_filter", "rts_smoother", "KalmanResult", "montecarlo",
 ]

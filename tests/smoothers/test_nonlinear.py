@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from setsmooth.filters.interval import IntervalEstimates, interval_filter
+from setsmooth.filters.interval import interval_filter
+from setsmooth.intervals import IntervalEstimates
 from setsmooth.smoothers.nonlinear import interval_smoother, invert_increasing
 
 W = (-1.0, 1.0)
