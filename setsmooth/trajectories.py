@@ -126,8 +126,9 @@ def filtering_map(system, prior: ConvexSet, ys: Any, i: int, k: int) -> Constrai
     >>> box = ss.Box([-1.0], [1.0])
     >>> system = ss.LinearSystem([[1.0]], [[1.0]], [[1.0]], [[1.0]], W=box, V=box)
     >>> F = ss.filtering_map(system, ss.Box([-5.0], [5.0]), [[0.0], [0.5], [1.0]], 1, 2)
-    >>> [round(v, 6) for v in F.interval_hull().hi], [round(v, 6) for v in F.interval_hull().lo]
-    ([2.0], [0.0])
+    >>> hull = F.interval_hull()          # y_1 = 0.5 gives x_1 ∈ [−0.5, 1.5], then x_2 ∈ [0, 2]
+    >>> hull.lo.round(6).tolist(), hull.hi.round(6).tolist()
+    ([0.0], [2.0])
     """
     traj = trajectory_set(system, prior, ys, i, k)
     n = system.n
