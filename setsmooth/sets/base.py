@@ -260,6 +260,47 @@ class ConvexSet(ABC):
 
         return rejection_sample(self, rng, size)
 
+    # -- algebra hooks: the closed forms a representation knows ---------------------------------------
+    # `setsmooth.sets.algebra` calls these directly; each returns NotImplemented when this
+    # representation has no closed form for the operand, and the algebra then widens (see there). The
+    # naming convention makes them checkable: every private name starting with ``_closed_`` is an
+    # algebra hook and must be declared here (`__init_subclass__` refuses a misspelt one).
+
+    def _closed_linear_map(self, M) -> "ConvexSet":
+        """Hook: {M s : s ∈ self} for a trusted (k, dim) matrix M (dense or sparse), or NotImplemented."""
+        return NotImplemented
+
+    def _closed_translate(self, v: np.ndarray) -> "ConvexSet":
+        """Hook: self + v for a trusted vector v, or NotImplemented."""
+        return NotImplemented
+
+    def _closed_sum(self, other: "ConvexSet") -> "ConvexSet":
+        """Hook: self ⊕ other (tried in both orders: the sum commutes), or NotImplemented."""
+        return NotImplemented
+
+    def _closed_intersection(self, other: "ConvexSet") -> "ConvexSet":
+        """Hook: self ∩ other (tried in both orders), or NotImplemented."""
+        return NotImplemented
+
+    def _closed_generalized_intersection(self, R, Y: "ConvexSet") -> "ConvexSet":
+        """Hook: {s ∈ self : R s ∈ Y}, or NotImplemented (then Y's reflected hook is tried)."""
+        return NotImplemented
+
+    def _closed_reflected_generalized_intersection(self, S: "ConvexSet", R) -> "ConvexSet":
+        """Hook: {s ∈ S : R s ∈ self}, the closed form the operand Y = self knows, or NotImplemented."""
+        return NotImplemented
+
+    def _closed_product(self, other: "ConvexSet") -> "ConvexSet":
+        """Hook: self × other (in this order), or NotImplemented."""
+        return NotImplemented
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        for name in vars(cls):
+            if name.startswith("_closed_") and name not in ALGEBRA_HOOKS:
+                raise TypeError(f"{cls.__name__}.{name} looks like a set-algebra hook but is not one of "
+                                f"the hooks declared on ConvexSet: {sorted(ALGEBRA_HOOKS)}")
+
     # -- algebra (see setsmooth.sets.algebra for the widening rules) ---------------------------------
     def __matmul__(self, other):
         return NotImplemented
@@ -339,6 +380,10 @@ class ConvexSet(ABC):
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(dim={self.dim})"
+
+
+#: The set-algebra hooks declared on ConvexSet (every private ``_closed_*`` name must be one of them).
+ALGEBRA_HOOKS = frozenset(name for name in vars(ConvexSet) if name.startswith("_closed_"))
 
 
 def _same_dim(a: ConvexSet, b: ConvexSet, what: str) -> None:
