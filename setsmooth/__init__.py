@@ -3,7 +3,7 @@
 from .sets import (Box, CartesianProduct, ConstrainedZonotope, ConvexSet, Ellipsoid, EmptySet,
                    GeneralizedIntersection, HPolytope, Intersection, LinearMap, MinkowskiSum, Reals,
                    Zonotope)
-from . import montecarlo
+from . import montecarlo, paper_examples
 from .filters import KalmanResult, classical_filter, interval_filter, kalman_filter, rts_smoother
 from .intervals import IntervalEstimates
 from .smoothers import interval_smoother, optimal_smoother
@@ -19,5 +19,5 @@ __all__ = [
     "CartesianProduct", "SolverError", "LinearSystem", "NonlinearSystem", "simulate",
     "classical_filter", "optimal_smoother", "trajectory_set", "filtering_map", "interval_filter",
     "interval_smoother",
-    "IntervalEstimates", "kalman_filter", "rts_smoother", "KalmanResult", "montecarlo",
+    "IntervalEstimates", "kalman_filter", "rts_smoother", "KalmanResult", "montecarlo", "paper_examples",
 ]

@@ -4,6 +4,7 @@ import scipy.sparse as sp
 
 import setsmooth as ss
 from setsmooth.filters.classical import predict, update
+from tests.trajectory_reference import block_assembly
 
 
 def _random_system(rng, n, time_varying=False, with_input=False, sparse_noise=False):
@@ -38,53 +39,6 @@ def _random_system(rng, n, time_varying=False, with_input=False, sparse_noise=Fa
     return ss.LinearSystem(A, B, C, np.eye(m), W, V, u=u)
 
 
-def _old_assembly(system, X0, ys):
-    """The block-by-block scipy assembly this module used before (the reference for bit-identity)."""
-    Z0 = X0.to_constrained_zonotope()
-    Zw = system.W.to_constrained_zonotope()
-    Zv = system.V.to_constrained_zonotope()
-    n, T = system.n, ys.shape[0] - 1
-    n_states = n * (T + 1)
-    col_x0 = n_states
-    col_w = col_x0 + Z0.ng
-    col_v = col_w + T * Zw.ng
-    n_factors = col_v + (T + 1) * Zv.ng
-    dense = lambda M: M.toarray() if sp.issparse(M) else np.asarray(M)  # noqa: E731
-    rows, rhs = [], []
-
-    def block(r, pieces):
-        mats = []
-        for offset, M in pieces:
-            M = sp.coo_matrix(M)
-            mats.append(sp.coo_matrix((M.data, (M.row, M.col + offset)), shape=(r, n_factors)))
-        return sum(mats[1:], mats[0]).tocsr()
-
-    if Z0.nc:
-        rows.append(block(Z0.nc, [(col_x0, Z0.A)]))
-        rhs.append(Z0.b)
-    for k in range(T):
-        if Zw.nc:
-            rows.append(block(Zw.nc, [(col_w + k * Zw.ng, Zw.A)]))
-            rhs.append(Zw.b)
-    for k in range(T + 1):
-        if Zv.nc:
-            rows.append(block(Zv.nc, [(col_v + k * Zv.ng, Zv.A)]))
-            rhs.append(Zv.b)
-    eye = sp.identity(n)
-    rows.append(block(n, [(0, eye), (col_x0, -sp.csr_matrix(Z0.G))]))
-    rhs.append(Z0.c)
-    for k in range(T):
-        Bk = system.B(k)
-        rows.append(block(n, [((k + 1) * n, eye), (k * n, -system.A(k)),
-                              (col_w + k * Zw.ng, -(Bk @ dense(Zw.G)))]))
-        rhs.append(Bk @ Zw.c + system.input_term(k))
-    for k in range(T + 1):
-        Dk = system.D(k)
-        rows.append(block(system.m, [(k * n, system.C(k)), (col_v + k * Zv.ng, Dk @ dense(Zv.G))]))
-        rhs.append(ys[k] - Dk @ Zv.c)
-    return sp.vstack(rows, format="csc"), np.concatenate(rhs)
-
-
 @pytest.mark.parametrize("seed,time_varying,with_input,sparse_noise",
                          [(0, False, False, False), (1, True, False, False), (2, False, True, True),
                           (3, True, True, True), (4, False, False, True)])
@@ -95,7 +49,7 @@ def test_one_step_assembly_is_bit_identical_to_the_block_assembly(seed, time_var
     sys = _random_system(rng, n, time_varying, with_input, sparse_noise)
     X0 = ss.ConstrainedZonotope(rng.normal(size=(n, n + 1)), rng.normal(size=n), np.ones((1, n + 1)), [0.1])
     _, ys = ss.simulate(sys, X0, 12, rng)
-    old_A, old_b = _old_assembly(sys, X0, ys)
+    old_A, old_b = block_assembly(sys, X0, ys)
     old_A.eliminate_zeros()
     old_A.sort_indices()
     new = ss.trajectory_set(sys, X0, ys)
