@@ -8,6 +8,7 @@ validate arguments once and dispatch.
 
 from __future__ import annotations
 
+import difflib
 from abc import ABC, abstractmethod
 from functools import cached_property
 from typing import TYPE_CHECKING, Any, Sequence
@@ -297,7 +298,7 @@ class ConvexSet(ABC):
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
         for name in vars(cls):
-            if name.startswith("_closed_") and name not in ALGEBRA_HOOKS:
+            if name not in ALGEBRA_HOOKS and _looks_like_a_hook(name):
                 raise TypeError(f"{cls.__name__}.{name} looks like a set-algebra hook but is not one of "
                                 f"the hooks declared on ConvexSet: {sorted(ALGEBRA_HOOKS)}")
 
@@ -384,6 +385,13 @@ class ConvexSet(ABC):
 
 #: The set-algebra hooks declared on ConvexSet (every private ``_closed_*`` name must be one of them).
 ALGEBRA_HOOKS = frozenset(name for name in vars(ConvexSet) if name.startswith("_closed_"))
+
+
+def _looks_like_a_hook(name: str) -> bool:
+    """A ``closed…`` name, or a near-miss of a declared hook (a typo: similarity ≥ 0.9)."""
+    if name.lstrip("_").startswith("closed"):
+        return True
+    return any(difflib.SequenceMatcher(None, name, hook).ratio() >= 0.9 for hook in ALGEBRA_HOOKS)
 
 
 def _same_dim(a: ConvexSet, b: ConvexSet, what: str) -> None:

@@ -29,11 +29,18 @@ def _all_convex_set_classes():
     return sorted(seen, key=lambda c: c.__qualname__)
 
 
-def test_a_misspelt_hook_is_refused_when_the_class_is_defined():
-    with pytest.raises(TypeError, match="_closed_intersecton looks like a set-algebra hook"):
-        class Misspelt(ss.Box):  # noqa: F841
-            def _closed_intersecton(self, other):
-                return NotImplemented
+@pytest.mark.parametrize("name", ["_closed_intersecton", "_closedsum", "_close_sum", "_closed_prodcut",
+                                  "_clsoed_translate", "_closed_union"])
+def test_a_misspelt_or_undeclared_hook_is_refused_when_the_class_is_defined(name):
+    with pytest.raises(TypeError, match=f"{name} looks like a set-algebra hook"):
+        type("Misspelt", (ss.Box,), {name: lambda self, other: NotImplemented})
+
+
+def test_the_cz_operations_and_other_private_names_are_not_taken_for_hooks():
+    names = ["_linear_map", "_translate", "_minkowski_sum", "_generalized_intersection",
+             "_cartesian_product", "_closest_point", "_project", "_support"]
+    Fine = type("Fine", (ss.Box,), {name: lambda self, *args: NotImplemented for name in names})
+    assert issubclass(Fine, ConvexSet)
 
 
 def test_every_closed_name_of_every_set_class_is_a_declared_hook():
