@@ -7,7 +7,8 @@ Order of preference, for every binary operation:
    Zonotope, HPolytope ∩ Box an HPolytope, ...), through the hooks declared on `ConvexSet`
    (``_closed_*``), called directly. Both operands are asked for the commutative operations and for
    the generalized intersection (Y's ``_closed_reflected_generalized_intersection``), so the widened
-   type does not depend on the order: Box ∩_R HPolytope is an HPolytope like HPolytope ∩_R Box;
+   type does not depend on the order: Box ∩_R HPolytope is an HPolytope like HPolytope ∩_R Box (and
+   the product asks the right operand too: Box × HPolytope is an HPolytope like HPolytope × Box);
 3. the constrained-zonotope closed form, when both operands flatten exactly to CZs (smoothing paper
    (35)–(37)); Box ∩ Zonotope is a CZ;
 4. otherwise a lazy set (`setsmooth.sets.lazy`), exact and queried through CVXPY.
@@ -102,6 +103,8 @@ def cartesian_product(S: ConvexSet, T: ConvexSet) -> ConvexSet:
     if isinstance(S, EmptySet) or isinstance(T, EmptySet):
         return EmptySet(S.dim + T.dim)
     result = S._closed_product(T)
+    if result is NotImplemented:  # the closed form T knows: Box × HPolytope is an HPolytope too
+        result = T._closed_reflected_product(S)
     if result is not NotImplemented:
         return result
     a, b = S._flat_cz, T._flat_cz

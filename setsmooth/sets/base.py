@@ -292,7 +292,11 @@ class ConvexSet(ABC):
         return NotImplemented
 
     def _closed_product(self, other: "ConvexSet") -> "ConvexSet":
-        """Hook: self × other (in this order), or NotImplemented."""
+        """Hook: self × other (in this order), or NotImplemented (then other's reflected hook is tried)."""
+        return NotImplemented
+
+    def _closed_reflected_product(self, S: "ConvexSet") -> "ConvexSet":
+        """Hook: S × self, the closed form the right operand knows, or NotImplemented."""
         return NotImplemented
 
     def __init_subclass__(cls, **kwargs: Any) -> None:

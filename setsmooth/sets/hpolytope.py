@@ -100,6 +100,13 @@ class HPolytope(ConvexSet):
         return HPolytope._trusted(scipy.linalg.block_diag(self.H, other.H),
                                   np.concatenate([self.k, other.k]), self.dim + other.dim)
 
+    def _closed_reflected_product(self, S):
+        """S × P for an S with an H-form (a Box, ℝⁿ)."""
+        S = _as_hpolytope(S)
+        if S is None:
+            return NotImplemented
+        return S._closed_product(self)
+
 
 def _as_hpolytope(S):
     """An H-form of a Box, of ℝⁿ (no rows) or of an HPolytope; None for other representations."""

@@ -83,6 +83,7 @@ CASES = [
     ("CZ * Box", lambda: CZ * BOX, ss.ConstrainedZonotope),
     ("HPolytope * HPolytope", lambda: POLY * POLY, ss.HPolytope),
     ("HPolytope * Box", lambda: POLY * BOX, ss.HPolytope),
+    ("Box * HPolytope", lambda: BOX * POLY, ss.HPolytope),
     ("Ellipsoid * Box", lambda: ELL * BOX, ss.CartesianProduct),
     # projections
     ("Box.project", lambda: BOX.project([1]), ss.Box),

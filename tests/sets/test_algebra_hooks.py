@@ -55,7 +55,8 @@ def test_every_declared_hook_has_a_not_implemented_default_and_is_called_by_the_
     source = inspect.getsource(algebra)
     assert ALGEBRA_HOOKS >= {"_closed_linear_map", "_closed_translate", "_closed_sum",
                              "_closed_intersection", "_closed_generalized_intersection",
-                             "_closed_reflected_generalized_intersection", "_closed_product"}
+                             "_closed_reflected_generalized_intersection", "_closed_product",
+                             "_closed_reflected_product"}
     for hook in ALGEBRA_HOOKS:
         assert f".{hook}(" in source, f"{hook} is declared but never called by the algebra"
         n_args = len(inspect.signature(getattr(ConvexSet, hook)).parameters) - 1
@@ -119,3 +120,21 @@ def test_intersection_widens_the_same_in_both_orders(a, b):
         return
     np.testing.assert_allclose(forward.support_many(DIRECTIONS), backward.support_many(DIRECTIONS),
                                rtol=1e-6, atol=1e-6)
+
+
+ALL_ORDERED_PAIRS = list(itertools.product(sorted(REPRESENTATIONS), repeat=2))
+
+
+@pytest.mark.parametrize("a,b", ALL_ORDERED_PAIRS, ids=[f"{a}-{b}" for a, b in ALL_ORDERED_PAIRS])
+def test_sums_and_products_widen_to_one_type_whatever_the_order(a, b):
+    S, T = REPRESENTATIONS[a](), REPRESENTATIONS[b]()
+    assert type(S + T) is type(T + S)
+    forward, backward = S * T, T * S
+    assert type(forward) is type(backward)
+    if "Reals" in (a, b):
+        return
+    # T × S is S × T with its two blocks of coordinates swapped.
+    swap = np.roll(np.eye(4), 2, axis=1)
+    D = np.random.default_rng(4).standard_normal((6, 4))
+    np.testing.assert_allclose(backward.support_many(D @ swap), forward.support_many(D), rtol=1e-6,
+                               atol=1e-6)
