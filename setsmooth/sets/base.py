@@ -8,7 +8,6 @@ validate arguments once and dispatch.
 
 from __future__ import annotations
 
-import difflib
 from abc import ABC, abstractmethod
 from functools import cached_property
 from typing import TYPE_CHECKING, Any, Sequence
@@ -19,6 +18,7 @@ import numpy as np
 from .. import tolerances as tol
 from .._validation import as_directions, as_matrix, as_vector
 from ..solvers import GenericProgram
+from .hooks import AlgebraHooks
 
 if TYPE_CHECKING:  # pragma: no cover
     from .box import Box
@@ -28,10 +28,11 @@ if TYPE_CHECKING:  # pragma: no cover
 _PATHS = ("auto", "generic")
 
 
-class ConvexSet(ABC):
+class ConvexSet(AlgebraHooks, ABC):
     """A closed convex subset of ℝⁿ described by CVXPY constraints.
 
-    Subclasses implement `constraints` and set ``dim``; every other query has a default here.
+    Subclasses implement `constraints` and set ``dim``; every other query has a default here, and
+    the set-algebra hooks (``_closed_*``) are declared with NotImplemented defaults in `AlgebraHooks`.
     Sets are immutable: operations return new sets and cache solver data on themselves.
 
     Attributes
@@ -261,51 +262,6 @@ class ConvexSet(ABC):
 
         return rejection_sample(self, rng, size)
 
-    # -- algebra hooks: the closed forms a representation knows ---------------------------------------
-    # `setsmooth.sets.algebra` calls these directly; each returns NotImplemented when this
-    # representation has no closed form for the operand, and the algebra then widens (see there). The
-    # naming convention makes them checkable: every private name starting with ``_closed_`` is an
-    # algebra hook and must be declared here (`__init_subclass__` refuses a misspelt one).
-
-    def _closed_linear_map(self, M) -> "ConvexSet":
-        """Hook: {M s : s ∈ self} for a trusted (k, dim) matrix M (dense or sparse), or NotImplemented."""
-        return NotImplemented
-
-    def _closed_translate(self, v: np.ndarray) -> "ConvexSet":
-        """Hook: self + v for a trusted vector v, or NotImplemented."""
-        return NotImplemented
-
-    def _closed_sum(self, other: "ConvexSet") -> "ConvexSet":
-        """Hook: self ⊕ other (tried in both orders: the sum commutes), or NotImplemented."""
-        return NotImplemented
-
-    def _closed_intersection(self, other: "ConvexSet") -> "ConvexSet":
-        """Hook: self ∩ other (tried in both orders), or NotImplemented."""
-        return NotImplemented
-
-    def _closed_generalized_intersection(self, R, Y: "ConvexSet") -> "ConvexSet":
-        """Hook: {s ∈ self : R s ∈ Y}, or NotImplemented (then Y's reflected hook is tried)."""
-        return NotImplemented
-
-    def _closed_reflected_generalized_intersection(self, S: "ConvexSet", R) -> "ConvexSet":
-        """Hook: {s ∈ S : R s ∈ self}, the closed form the operand Y = self knows, or NotImplemented."""
-        return NotImplemented
-
-    def _closed_product(self, other: "ConvexSet") -> "ConvexSet":
-        """Hook: self × other (in this order), or NotImplemented (then other's reflected hook is tried)."""
-        return NotImplemented
-
-    def _closed_reflected_product(self, S: "ConvexSet") -> "ConvexSet":
-        """Hook: S × self, the closed form the right operand knows, or NotImplemented."""
-        return NotImplemented
-
-    def __init_subclass__(cls, **kwargs: Any) -> None:
-        super().__init_subclass__(**kwargs)
-        for name in vars(cls):
-            if name not in ALGEBRA_HOOKS and _looks_like_a_hook(name):
-                raise TypeError(f"{cls.__name__}.{name} looks like a set-algebra hook but is not one of "
-                                f"the hooks declared on ConvexSet: {sorted(ALGEBRA_HOOKS)}")
-
     # -- algebra (see setsmooth.sets.algebra for the widening rules) ---------------------------------
     def __matmul__(self, other):
         return NotImplemented
@@ -385,17 +341,6 @@ class ConvexSet(ABC):
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(dim={self.dim})"
-
-
-#: The set-algebra hooks declared on ConvexSet (every private ``_closed_*`` name must be one of them).
-ALGEBRA_HOOKS = frozenset(name for name in vars(ConvexSet) if name.startswith("_closed_"))
-
-
-def _looks_like_a_hook(name: str) -> bool:
-    """A ``closed…`` name, or a near-miss of a declared hook (a typo: similarity ≥ 0.9)."""
-    if name.lstrip("_").startswith("closed"):
-        return True
-    return any(difflib.SequenceMatcher(None, name, hook).ratio() >= 0.9 for hook in ALGEBRA_HOOKS)
 
 
 def _same_dim(a: ConvexSet, b: ConvexSet, what: str) -> None:

@@ -13,7 +13,8 @@ import pytest
 import setsmooth
 import setsmooth as ss
 from setsmooth.sets import algebra
-from setsmooth.sets.base import ALGEBRA_HOOKS, ConvexSet
+from setsmooth.sets.base import ConvexSet
+from setsmooth.sets.hooks import ALGEBRA_HOOKS
 
 
 def _all_convex_set_classes():
