@@ -13,7 +13,7 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 test: $(STAMP)
-	$(PY) -m pytest -n 2 -q
+	$(PY) -m pytest -n 2 -q tests setsmooth --doctest-modules
 
 examples: $(STAMP)
 	@for f in examples/*.py; do echo "== $$f"; MPLBACKEND=Agg $(PY) $$f || exit 1; done

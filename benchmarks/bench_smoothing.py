@@ -4,6 +4,8 @@
    smoother and the certified interval hulls of every filtered and smoothed set, with the smoother
    computed by the closed-form recursion (Algorithm 1, eq. (24)) and by the trajectory form.
 2. Smoothing a T = 600 horizon of a 3-state system with the trajectory form (build + all hulls).
+3. Assembling the trajectory set's sparse matrix: in one step from index arrays (`setsmooth.trajectories`)
+   vs one small scipy block per row group (the previous assembly, kept in tests/trajectory_reference.py).
 
 Usage: python benchmarks/bench_smoothing.py [--repeats N] [--seed S] [--horizon T]
 """
@@ -14,15 +16,13 @@ import argparse
 import statistics
 import time
 
+import sys
+from pathlib import Path
+
 import numpy as np
 
 import setsmooth as ss
-
-
-def example_31() -> ss.LinearSystem:
-    s1, c1 = np.sin(1.0), np.cos(1.0)
-    return ss.LinearSystem([[s1, c1], [-c1, s1]], [[0.5], [1.0]], [[0.5, 0.5], [1.0, 0.3]], np.eye(2),
-                           W=ss.Box([-1.0], [1.0]), V=ss.Box([-1.0, -1.0], [1.0, 1.0]))
+from setsmooth.paper_examples import smoothing_example_31, smoothing_example_31_x0
 
 
 def three_state_system() -> ss.LinearSystem:
@@ -38,7 +38,7 @@ def trial(system, X0, T, rng, method):
     _, ys = ss.simulate(system, X0, T, rng)
     posteriors = ss.classical_filter(system, X0, ys)
     if method == "recursion":
-        smoothed = ss.optimal_smoother(system, X0, ys, posteriors=posteriors)
+        smoothed = ss.optimal_smoother(system, X0, ys, method="recursion", posteriors=posteriors)
     else:
         smoothed = ss.optimal_smoother(system, X0, ys, method="trajectory")
     hulls_f = [P.interval_hull(certified=True) for P in posteriors]
@@ -53,7 +53,7 @@ def main() -> None:
     parser.add_argument("--horizon", type=int, default=600)
     args = parser.parse_args()
 
-    system, X0 = example_31(), ss.Box([-5, -5], [5, 5])
+    system, X0 = smoothing_example_31(), smoothing_example_31_x0()
     times = {"recursion": [], "trajectory": []}
     max_gap = 0.0
     for r in range(args.repeats):
@@ -84,6 +84,30 @@ def main() -> None:
     print(f"\nTrajectory form, 3 states, T = {args.horizon}: build {built:.3f} s, "
           f"build + {len(hulls)} certified hulls {total:.1f} s ({1e3 * total / len(hulls):.1f} ms per step); "
           f"mean smoothed ∞-diameter {widths.mean():.3f}")
+
+    assembly(system3, X0_3, ys, args.repeats)
+
+
+def assembly(system, X0, ys, repeats: int) -> None:
+    """Median times of the one-step and the block-by-block assembly, at T = 50 and the full horizon."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+    from tests.trajectory_reference import block_assembly
+
+    def median_time(build) -> float:
+        times = []
+        for _ in range(max(repeats, 5)):
+            start = time.perf_counter()
+            build()
+            times.append(time.perf_counter() - start)
+        return statistics.median(times)
+
+    print("\nTrajectory-set assembly (3 states), median ms")
+    print(f"{'T':>6}{'one step':>12}{'blocks':>12}{'ratio':>9}")
+    for T in (50, ys.shape[0] - 1):
+        window = ys[:T + 1]
+        new = median_time(lambda: ss.trajectory_set(system, X0, window))
+        old = median_time(lambda: block_assembly(system, X0, window))
+        print(f"{T:>6}{1e3 * new:>12.2f}{1e3 * old:>12.2f}{old / new:>8.1f}x")
 
 
 if __name__ == "__main__":

@@ -1,48 +1,34 @@
-"""The two examples of the smoothing paper §IV-C, and what the figure scripts share.
+"""What the smoothing paper's figure scripts share: its settings, conventions and statistics.
 
-Linear example (31): Φ = [[sin 1, cos 1], [−cos 1, sin 1]], Γ = [0.5, 1]ᵀ, Ξ = [[0.5, 0.5], [1, 0.3]],
-Ψ = I, ⟦w_k⟧ = [−1, 1], ⟦v_k⟧ = [−1, 1]², over k ∈ [0, 50] (Figs. 3–5).
-
-Nonlinear example (33)–(34): x_{k+1} = ∛x_k + x_k + w_k, y_k = 2x_k + v_k, ⟦w_k⟧ = [−1, 1],
-⟦v_k⟧ = [1, 3] (Fig. 6).
-
-The paper does not state ⟦x_0⟧ for either example. We take ⟦x_0⟧ = [−5, 5]² for (31) and [−5, 5] for
-(33): wider than what one measurement tells (Ξ⁻¹⟦v⟧ has widths 4.6 × 8.6 for (31); (34) pins x_k to an
-interval of width 1), so the first posteriors are shaped by the data rather than by the prior, and
-x_0 is drawn uniformly from the same set. All noises are uniform on their ranges (paper footnote 3).
+The example systems themselves live in `setsmooth.paper_examples` (one definition for figures, tests,
+benchmarks and docs); this module names them as the figure scripts use them and adds the paper's run
+sizes, the report's conventions (`REPORT_PREAMBLE`) and the statistics Figs. 3 and 6 share. All noises
+are uniform on their ranges (paper footnote 3); x_0 is drawn uniformly from ⟦x_0⟧.
 """
 
 from __future__ import annotations
 
-import json
-import time
-from pathlib import Path
-from typing import Any
-
 import numpy as np
 
 import setsmooth as ss
+from setsmooth.paper_examples import (SMOOTHING_31_X0, SMOOTHING_33_V, SMOOTHING_33_W, SMOOTHING_33_X0,
+                                      eta_33, eta_33_inverse, measurement_interval_34, smoothing_example_31,
+                                      smoothing_example_31_x0, smoothing_example_33)
 
+from _outputs import row
+
+PAPER = "smoothing"
+PAPER_TITLE = "Smoothing paper — Li, Cong, Zhou, Dong, *Optimal Set-Membership Smoothing*"
 T = 50                              # k ∈ [0, T] in Figs. 3–6
 PAPER_RUNS = 5000                   # Monte Carlo size of Figs. 3, 5, 6
 PAPER_RUNS_PER_PAIR = 100           # Fig. 4
 PAPER_BEST_QR = (0.076, 0.036)      # Fig. 4
-DEFAULT_OUT = Path(__file__).resolve().parent / "out"
 HULL_TOL = 1e-6                     # slack for comparisons of certified interval hulls
 
 # -- linear example (31) ----------------------------------------------------------------------------
-X0_LINEAR = ((-5.0, -5.0), (5.0, 5.0))
-
-
-def linear_system() -> ss.LinearSystem:
-    """Smoothing paper example (31)."""
-    s1, c1 = np.sin(1.0), np.cos(1.0)
-    return ss.LinearSystem([[s1, c1], [-c1, s1]], [[0.5], [1.0]], [[0.5, 0.5], [1.0, 0.3]], np.eye(2),
-                           W=ss.Box([-1.0], [1.0]), V=ss.Box([-1.0, -1.0], [1.0, 1.0]))
-
-
-def linear_x0() -> ss.Box:
-    return ss.Box(*X0_LINEAR)
+X0_LINEAR = SMOOTHING_31_X0
+linear_system = smoothing_example_31
+linear_x0 = smoothing_example_31_x0
 
 
 def rts_prior() -> tuple[np.ndarray, np.ndarray]:
@@ -98,43 +84,13 @@ def shrinkage_rows(x: np.ndarray, f_lo: np.ndarray, f_hi: np.ndarray, s_lo: np.n
     return rows, stats
 
 # -- nonlinear example (33)–(34) --------------------------------------------------------------------
-X0_NONLINEAR = (-5.0, 5.0)
-W_NONLINEAR = (-1.0, 1.0)
-V_NONLINEAR = (1.0, 3.0)
-
-
-def eta(x):
-    """η(x) = ∛x + x of (33): continuous, strictly increasing, onto ℝ."""
-    return np.cbrt(x) + x
-
-
-def eta_inverse(z):
-    """η⁻¹ in closed form: t = ∛x solves t³ + t − z = 0 (Cardano, one real root, u·v = −1/3)."""
-    z = float(z)
-    s = np.sqrt(z * z / 4 + 1 / 27)
-    u = np.cbrt(abs(z) / 2 + s)          # the larger Cardano term; no cancellation for either sign
-    t = np.copysign(u - 1 / (3 * u), z)
-    return t ** 3
-
-
-def nonlinear_step(k, x, w):
-    return eta(x) + w
-
-
-def nonlinear_measure(k, x, v):
-    return 2 * x + v
-
-
-def nonlinear_system() -> ss.NonlinearSystem:
-    """Smoothing paper example (33)–(34)."""
-    return ss.NonlinearSystem(nonlinear_step, nonlinear_measure, ss.Box([W_NONLINEAR[0]], [W_NONLINEAR[1]]),
-                              ss.Box([V_NONLINEAR[0]], [V_NONLINEAR[1]]), n=1)
-
-
-def measurement_interval(k, y):
-    """{x : y = 2x + v, v ∈ [1, 3]} = [(y − 3)/2, (y − 1)/2] (34)."""
-    y = float(np.asarray(y).reshape(-1)[0])
-    return (y - V_NONLINEAR[1]) / 2, (y - V_NONLINEAR[0]) / 2
+X0_NONLINEAR = SMOOTHING_33_X0
+W_NONLINEAR = SMOOTHING_33_W
+V_NONLINEAR = SMOOTHING_33_V
+eta = eta_33
+eta_inverse = eta_33_inverse
+measurement_interval = measurement_interval_34
+nonlinear_system = smoothing_example_33
 
 
 def describe_box(lo, hi) -> str:
@@ -146,78 +102,19 @@ def describe_box(lo, hi) -> str:
     return " × ".join(sides)
 
 
-# -- outputs ----------------------------------------------------------------------------------------
-class Stopwatch:
-    """Wall time, and CPU time of this process plus its finished worker processes (Unix)."""
+#: The conventions shared by the smoothing paper's figures, printed above their rows in REPORT.md.
+REPORT_PREAMBLE = """\
+Reproduction of the numerical section (IV-C) of the smoothing paper. Each section lists the published
+value or qualitative claim beside ours; the plotted numbers are in `<name>.json`.
 
-    def __init__(self):
-        self.start = time.perf_counter()
-        self.cpu_start = _cpu_time()
-
-    @property
-    def seconds(self) -> float:
-        return round(time.perf_counter() - self.start, 2)
-
-    @property
-    def cpu_seconds(self) -> float | None:
-        now = _cpu_time()
-        return None if now is None else round(now - self.cpu_start, 2)
-
-
-def _cpu_time() -> float | None:
-    try:
-        import resource
-    except ImportError:   # Windows
-        return None
-    usage = [resource.getrusage(who) for who in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)]
-    return sum(u.ru_utime + u.ru_stime for u in usage)
-
-
-def row(quantity: str, paper: Any, ours: Any) -> dict:
-    """One line of the report: a published value or claim beside ours."""
-    return {"quantity": quantity, "paper": paper, "ours": ours}
-
-
-def write_outputs(out: Path | None, name: str, fig, data: dict) -> dict:
-    """Write ``<name>.png`` and ``<name>.json`` to ``out`` and return ``data``."""
-    out = Path(out) if out is not None else DEFAULT_OUT
-    out.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out / f"{name}.png", dpi=150, bbox_inches="tight")
-    import matplotlib.pyplot as plt
-
-    plt.close(fig)
-    (out / f"{name}.json").write_text(json.dumps(_jsonable(data), indent=1))
-    return data
-
-
-def _jsonable(obj: Any) -> Any:
-    if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _jsonable(obj.tolist())
-    if isinstance(obj, (np.bool_, bool)):
-        return bool(obj)
-    if isinstance(obj, np.integer):
-        return int(obj)
-    if isinstance(obj, (np.floating, float)):
-        value = float(obj)
-        return value if np.isfinite(value) else str(value)
-    return obj
-
-
-def cli(main, default_runs: int, description: str) -> None:
-    """``--runs --seed --out --workers`` for a figure script run on its own."""
-    import argparse
-
-    parser = argparse.ArgumentParser(description=description)
-    parser.add_argument("--runs", type=int, default=default_runs,
-                        help=f"Monte Carlo runs (default {default_runs})")
-    parser.add_argument("--seed", type=int, default=0, help="root seed (default 0)")
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="output directory")
-    parser.add_argument("--workers", type=int, default=None, help="processes (default: 2)")
-    args = parser.parse_args()
-    result = main(runs=args.runs, seed=args.seed, out=args.out, workers=args.workers)
-    for r in result["rows"]:
-        print(f"{r['quantity']}: paper {r['paper']} | ours {r['ours']}")
+Conventions shared by these figures:
+- Noises are uniform on their ranges (paper footnote 3). The paper does not state the initial range
+  ⟦x_0⟧; we use {x0_linear} for the linear example (31) and {x0_nonlinear} for the nonlinear
+  example (33)–(34) (`setsmooth.paper_examples`), and draw x_0 uniformly from it.
+- Smoothed ranges of (31) are those of Algorithm 1 (eq. (24)), computed as projections of the
+  trajectory set (`optimal_smoother(method="trajectory")`: the same sets, O(T) instead of O(T²));
+  posterior ranges come from `classical_filter` (the optimal SMF). Diameters are ∞-norm diameters of
+  certified interval hulls.
+- MSE_k = mean over runs of ‖x̂_k − x_k‖₂²; Fig. 4 averages it over k ∈ [0, 50] too.
+- Runs are seeded with `numpy.random.SeedSequence(seed).spawn(runs)`; identical for any worker count.
+""".format(x0_linear=describe_box(*X0_LINEAR), x0_nonlinear=describe_box(*X0_NONLINEAR))

@@ -20,8 +20,10 @@ import setsmooth as ss
 from setsmooth import montecarlo
 
 import _smoothing_examples as ex
+from _outputs import Stopwatch, cli, finish, row
 
 NAME = "smoothing_fig3"
+PAPER = ex.PAPER
 DEFAULT_RUNS = 300
 K_PLANE = 10          # Fig. 3(a) shows k ∈ [0, 10]
 
@@ -38,7 +40,7 @@ def trial(rng: np.random.Generator) -> dict:
 
 def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, workers: int | None = None,
          progress: bool = True, executor=None) -> dict:
-    clock = ex.Stopwatch()
+    clock = Stopwatch()
     results = montecarlo.run(trial, runs, seed, executor=executor, progress=progress, workers=workers)
 
     def stack(key):
@@ -49,7 +51,7 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
     k = np.arange(ex.T + 1)
     rows, stats = ex.shrinkage_rows(x, f_lo, f_hi, s_lo, s_hi, "Fig. 3b", "hull diameter")
     mean_f, mean_s = stats["mean_diameter_filtered"], stats["mean_diameter_smoothed"]
-    rows.insert(3, ex.row("steady part k ∈ [10, 40], filtered / smoothed", "not stated (plot only)",
+    rows.insert(3, row("steady part k ∈ [10, 40], filtered / smoothed", "not stated (plot only)",
                           f"{mean_f[10:41].mean():.3f} / {mean_s[10:41].mean():.3f}"))
     fig = _plot(k, x[0], f_lo[0], f_hi[0], s_lo[0], s_hi[0], mean_f, mean_s, runs)
     data = {
@@ -66,10 +68,9 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
         "k": k, **stats,
         "fig3a": {"x": x[0, :K_PLANE + 1], "filtered_lo": f_lo[0, :K_PLANE + 1],
                   "filtered_hi": f_hi[0, :K_PLANE + 1], "smoothed_lo": s_lo[0, :K_PLANE + 1],
-                  "smoothed_hi": s_hi[0, :K_PLANE + 1]},
-        "wall_time_s": clock.seconds, "cpu_time_s": clock.cpu_seconds,
+                  "smoothed_hi": s_hi[0, :K_PLANE + 1]}
     }
-    return ex.write_outputs(out, NAME, fig, data)
+    return finish(out, NAME, PAPER, fig, data, clock)
 
 
 def _plot(k, x, f_lo, f_hi, s_lo, s_hi, mean_f, mean_s, runs):
@@ -105,4 +106,4 @@ def _plot(k, x, f_lo, f_hi, s_lo, s_hi, mean_f, mean_s, runs):
 
 
 if __name__ == "__main__":
-    ex.cli(main, DEFAULT_RUNS, __doc__.splitlines()[0])
+    cli(main, DEFAULT_RUNS, __doc__.splitlines()[0])

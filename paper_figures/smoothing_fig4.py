@@ -25,8 +25,10 @@ from setsmooth import montecarlo
 from setsmooth.filters.kalman import rts_smoother
 
 import _smoothing_examples as ex
+from _outputs import Stopwatch, cli, finish, row
 
 NAME = "smoothing_fig4"
+PAPER = ex.PAPER
 DEFAULT_RUNS = ex.PAPER_RUNS_PER_PAIR
 TUNING_SEED_OFFSET = 1
 #: Log-spaced, bracketing the paper's best pair (0.076, 0.036) and the true variances Var(w) = Var(v_i) = 1/3.
@@ -69,7 +71,7 @@ def tune(runs: int, seed: int, q_grid=Q_GRID, r_grid=R_GRID, workers: int | None
 
 def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, workers: int | None = None,
          progress: bool = True, executor=None, q_grid=Q_GRID, r_grid=R_GRID) -> dict:
-    clock = ex.Stopwatch()
+    clock = Stopwatch()
     tuning = tune(runs, seed, q_grid, r_grid, workers=workers, progress=progress, executor=executor)
     mse = tuning["mse"]
     best_q, best_r, best = tuning["best_q"], tuning["best_r"], tuning["best_mse"]
@@ -77,15 +79,15 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
     # invariance), so the surface is a valley along q/r = const; report its flatness.
     near_best = int((mse <= 1.01 * best).sum())
     rows = [
-        ex.row("best (q, r) on the grid", f"{ex.PAPER_BEST_QR}",
+        row("best (q, r) on the grid", f"{ex.PAPER_BEST_QR}",
                f"({best_q:.4g}, {best_r:.4g}), q/r = {best_q / best_r:.3g} (paper q/r = "
                f"{ex.PAPER_BEST_QR[0] / ex.PAPER_BEST_QR[1]:.3g})"),
-        ex.row("average MSE at our best pair", "not stated", f"{best:.4f}"),
-        ex.row(f"average MSE at the paper's pair {ex.PAPER_BEST_QR}", "its minimum",
+        row("average MSE at our best pair", "not stated", f"{best:.4f}"),
+        row(f"average MSE at the paper's pair {ex.PAPER_BEST_QR}", "its minimum",
                f"{tuning['mse_paper_pair']:.4f} ({tuning['mse_paper_pair'] / best:.3f} × our best)"),
-        ex.row("average MSE at the true variances q = r = 1/3", "-",
+        row("average MSE at the true variances q = r = 1/3", "-",
                f"{tuning['mse_true_variances']:.4f} ({tuning['mse_true_variances'] / best:.3f} × our best)"),
-        ex.row("grid pairs within 1 % of the best MSE", "-", f"{near_best} of {mse.size}"),
+        row("grid pairs within 1 % of the best MSE", "-", f"{near_best} of {mse.size}"),
     ]
     data = {
         "figure": "Smoothing paper Fig. 4",
@@ -108,10 +110,9 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
             "With the true second moments (q = r = Var U[-1, 1] = 1/3, P0 = covariance of x_0) the RTS "
             "smoother is the linear minimum-MSE smoother whatever the noise law, so the grid minimum is "
             "expected near q = r = 1/3.",
-        ],
-        "wall_time_s": clock.seconds, "cpu_time_s": clock.cpu_seconds,
+        ]
     }
-    return ex.write_outputs(out, NAME, _plot(tuning), data)
+    return finish(out, NAME, PAPER, _plot(tuning), data, clock)
 
 
 def _plot(tuning: dict):
@@ -136,4 +137,4 @@ def _plot(tuning: dict):
 
 
 if __name__ == "__main__":
-    ex.cli(main, DEFAULT_RUNS, __doc__.splitlines()[0])
+    cli(main, DEFAULT_RUNS, __doc__.splitlines()[0])

@@ -24,9 +24,11 @@ import setsmooth as ss
 from setsmooth import montecarlo
 
 import _smoothing_examples as ex
+from _outputs import DEFAULT_OUT, Stopwatch, cli, finish, row
 import smoothing_fig4
 
 NAME = "smoothing_fig5"
+PAPER = ex.PAPER
 DEFAULT_RUNS = 300
 
 
@@ -71,8 +73,8 @@ def _same_tuning(saved: dict, runs_per_pair: int, seed: int, q_grid, r_grid) -> 
 def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, workers: int | None = None,
          progress: bool = True, executor=None, q_grid=smoothing_fig4.Q_GRID,
          r_grid=smoothing_fig4.R_GRID) -> dict:
-    clock = ex.Stopwatch()
-    out = Path(out) if out is not None else ex.DEFAULT_OUT
+    clock = Stopwatch()
+    out = Path(out) if out is not None else DEFAULT_OUT
     tuned = rts_tuning(runs, seed, out, q_grid, r_grid, workers, progress, executor)
     results = montecarlo.run(functools.partial(trial, q=tuned["q"], r=tuned["r"]), runs, seed,
                              executor=executor, progress=progress, workers=workers)
@@ -85,15 +87,15 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
     ratio = mse_sms.mean() / mse_rts.mean()
 
     rows = [
-        ex.row("SMS MSE below tuned-RTS MSE at every k", "yes (Fig. 5: 'Algorithm 1 performs better')",
+        row("SMS MSE below tuned-RTS MSE at every k", "yes (Fig. 5: 'Algorithm 1 performs better')",
                f"{'yes' if wins == k.size else 'no'} ({wins} of {k.size} steps)"),
-        ex.row("MSE averaged over k ∈ [0, 50], SMS / RTS (ratio)", "not stated (plot only)",
+        row("MSE averaged over k ∈ [0, 50], SMS / RTS (ratio)", "not stated (plot only)",
                f"{mse_sms.mean():.4f} / {mse_rts.mean():.4f} ({ratio:.3f})"),
-        ex.row("SMS − RTS MSE over k, paired over runs (± standard error)", "< 0 (implied by Fig. 5)",
+        row("SMS − RTS MSE over k, paired over runs (± standard error)", "< 0 (implied by Fig. 5)",
                f"{gap:+.4f} ± {gap_se:.4f}"),
-        ex.row("RTS tuning (q, r)", f"{ex.PAPER_BEST_QR}", f"({tuned['q']:.4g}, {tuned['r']:.4g}); "
+        row("RTS tuning (q, r)", f"{ex.PAPER_BEST_QR}", f"({tuned['q']:.4g}, {tuned['r']:.4g}); "
                                                            f"{tuned['source']}"),
-        ex.row(f"RTS with the paper's pair {ex.PAPER_BEST_QR}: MSE over k; SMS/RTS ratio; SMS − RTS", "-",
+        row(f"RTS with the paper's pair {ex.PAPER_BEST_QR}: MSE over k; SMS/RTS ratio; SMS − RTS", "-",
                f"{mse_rts_paper.mean():.4f}; {mse_sms.mean() / mse_rts_paper.mean():.3f}; "
                f"{gap_paper:+.4f} ± {gap_paper_se:.4f}"),
     ]
@@ -115,10 +117,9 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
             "minimum-MSE smoother, so the comparison hinges on how close the tuned (q, r) gets to them "
             "(the MSE with the paper's pair is listed as well).",
         ],
-        "k": k, "mse_sms": mse_sms, "mse_rts": mse_rts, "mse_rts_paper_pair": mse_rts_paper,
-        "wall_time_s": clock.seconds, "cpu_time_s": clock.cpu_seconds,
+        "k": k, "mse_sms": mse_sms, "mse_rts": mse_rts, "mse_rts_paper_pair": mse_rts_paper
     }
-    return ex.write_outputs(out, NAME, _plot(k, mse_sms, mse_rts, tuned, runs), data)
+    return finish(out, NAME, PAPER, _plot(k, mse_sms, mse_rts, tuned, runs), data, clock)
 
 
 def _paired_gap(errors_a: np.ndarray, errors_b: np.ndarray) -> tuple[float, float]:
@@ -144,4 +145,4 @@ def _plot(k, mse_sms, mse_rts, tuned, runs):
 
 
 if __name__ == "__main__":
-    ex.cli(main, DEFAULT_RUNS, __doc__.splitlines()[0])
+    cli(main, DEFAULT_RUNS, __doc__.splitlines()[0])

@@ -20,8 +20,10 @@ from setsmooth.filters.interval import interval_filter
 from setsmooth.smoothers.nonlinear import interval_smoother
 
 import _smoothing_examples as ex
+from _outputs import Stopwatch, cli, finish, row
 
 NAME = "smoothing_fig6"
+PAPER = ex.PAPER
 DEFAULT_RUNS = ex.PAPER_RUNS
 
 
@@ -36,7 +38,7 @@ def trial(rng: np.random.Generator) -> dict:
 
 def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, workers: int | None = None,
          progress: bool = True, executor=None) -> dict:
-    clock = ex.Stopwatch()
+    clock = Stopwatch()
     results = montecarlo.run(trial, runs, seed, executor=executor, progress=progress, workers=workers)
 
     def stack(key):
@@ -47,7 +49,7 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
     empty = int(np.isnan(f_hi - f_lo).any(axis=1).sum() + np.isnan(s_hi - s_lo).any(axis=1).sum())
     k = np.arange(ex.T + 1)
     rows, stats = ex.shrinkage_rows(x, f_lo, f_hi, s_lo, s_hi, "Fig. 6", "interval length")
-    rows.append(ex.row("runs with an empty range", "0", f"{empty}"))
+    rows.append(row("runs with an empty range", "0", f"{empty}"))
     data = {
         "figure": "Smoothing paper Fig. 6",
         "rows": rows,
@@ -58,10 +60,10 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
                      "smoother": "interval_smoother (Proposition 2 / Algorithm 2), closed-form eta inverse",
                      "diameter": "interval length"},
         "published": {"runs": ex.PAPER_RUNS, "claim": "smoothed ranges are smaller than posterior ranges"},
-        "k": k, **stats,
-        "wall_time_s": clock.seconds, "cpu_time_s": clock.cpu_seconds,
+        "k": k, **stats
     }
-    return ex.write_outputs(out, NAME, _plot(k, stats["mean_diameter_filtered"], stats["mean_diameter_smoothed"], runs), data)
+    fig = _plot(k, stats["mean_diameter_filtered"], stats["mean_diameter_smoothed"], runs)
+    return finish(out, NAME, PAPER, fig, data, clock)
 
 
 def _plot(k, mean_f, mean_s, runs):
@@ -79,4 +81,4 @@ def _plot(k, mean_f, mean_s, runs):
 
 
 if __name__ == "__main__":
-    ex.cli(main, DEFAULT_RUNS, __doc__.splitlines()[0])
+    cli(main, DEFAULT_RUNS, __doc__.splitlines()[0])

@@ -5,13 +5,9 @@ from __future__ import annotations
 import numpy as np
 
 import setsmooth as ss
+from setsmooth.paper_examples import smoothing_example_31
 
-
-def example_31() -> ss.LinearSystem:
-    """Smoothing paper example (31)."""
-    s1, c1 = np.sin(1.0), np.cos(1.0)
-    return ss.LinearSystem([[s1, c1], [-c1, s1]], [[0.5], [1.0]], [[0.5, 0.5], [1.0, 0.3]], np.eye(2),
-                           W=ss.Box([-1.0], [1.0]), V=ss.Box([-1.0, -1.0], [1.0, 1.0]))
+example_31 = smoothing_example_31  # the one definition of (31), under the name the tests use
 
 
 def singular_system() -> ss.LinearSystem:

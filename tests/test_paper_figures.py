@@ -124,3 +124,43 @@ def test_figure_names_resolve_exactly_or_by_a_unique_part():
     assert cli.select(available, ["smoothing_fig3.py", "fig4"]) == ["smoothing_fig3", "smoothing_fig4"]
     with pytest.raises(ValueError, match="ambiguous"):
         cli.select(available, ["fig3"])
+
+
+def test_report_groups_the_rows_by_paper(figures, tmp_path):
+    def fake(paper, figure):
+        return {"paper": paper, "figure": figure, "rows": [{"quantity": f"q of {figure}", "paper": 1,
+                                                            "ours": 2}], "settings": {"runs": 1}}
+    (tmp_path / "stability_fig9.json").write_text(json.dumps(fake("stability", "Stability Fig. 9")))
+    (tmp_path / "smoothing_fig9.json").write_text(json.dumps(fake("smoothing", "Smoothing Fig. 9")))
+    (tmp_path / "smoothing_fig8.json").write_text(json.dumps(fake("smoothing", "Smoothing Fig. 8")))
+    report = figures("report").main(tmp_path).read_text()
+    headings = sorted([(report.index("## Smoothing paper"), "smoothing"),
+                       (report.index("## stability paper"), "stability"),   # no _stability_examples.py
+                       (len(report), None)])
+    assert "Reproduction of the numerical section (IV-C) of the smoothing paper" in report  # its preamble
+
+    def paper_of(figure):
+        pos = report.index(f"### {figure}")
+        return next(paper for (start, paper), (end, _) in zip(headings, headings[1:]) if start < pos < end)
+
+    assert paper_of("Smoothing Fig. 8") == paper_of("Smoothing Fig. 9") == "smoothing"
+    assert paper_of("Stability Fig. 9") == "stability"
+
+
+def test_every_figure_script_follows_the_protocol(figures):
+    import inspect
+
+    for name in cli.discover(cli.find_figures_dir()):
+        module = figures(name)
+        assert module.NAME == name
+        paper_module = figures(f"_{module.PAPER}_examples")          # the paper's shared settings
+        assert paper_module.PAPER == module.PAPER and paper_module.REPORT_PREAMBLE
+        assert name.startswith(f"{module.PAPER}_") and module.DEFAULT_RUNS >= 1
+        params = inspect.signature(module.main).parameters
+        assert {"runs", "seed", "out", "workers", "progress", "executor"} <= set(params)
+
+
+def test_figure_json_names_its_paper(figures, tmp_path):
+    figures("smoothing_fig6").main(runs=2, out=tmp_path, **small())
+    saved = written(tmp_path, "smoothing_fig6")
+    assert saved["paper"] == "smoothing" and saved["wall_time_s"] >= 0

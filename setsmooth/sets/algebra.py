@@ -4,7 +4,11 @@ Order of preference, for every binary operation:
 
 1. the empty set absorbs (an operation with an empty operand is empty);
 2. a closed form one of the operands knows for the other (Box + Box is a Box, Zonotope + Box a
-   Zonotope, HPolytope ∩ Box an HPolytope, ...);
+   Zonotope, HPolytope ∩ Box an HPolytope, ...), through the hooks declared on `ConvexSet`
+   (``_closed_*``), called directly. Both operands are asked for the commutative operations and for
+   the generalized intersection (Y's ``_closed_reflected_generalized_intersection``), so the widened
+   type does not depend on the order: Box ∩_R HPolytope is an HPolytope like HPolytope ∩_R Box (and
+   the product asks the right operand too: Box × HPolytope is an HPolytope like HPolytope × Box);
 3. the constrained-zonotope closed form, when both operands flatten exactly to CZs (smoothing paper
    (35)–(37)); Box ∩ Zonotope is a CZ;
 4. otherwise a lazy set (`setsmooth.sets.lazy`), exact and queried through CVXPY.
@@ -22,24 +26,11 @@ from .empty import EmptySet
 from .lazy import CartesianProduct, GeneralizedIntersection, Intersection, LinearMap, MinkowskiSum
 
 
-def _closed(a: ConvexSet, hook: str, *args):
-    method = getattr(a, hook, None)
-    return NotImplemented if method is None else method(*args)
-
-
-def _either(S: ConvexSet, T: ConvexSet, hook: str):
-    """Try S.hook(T), then T.hook(S): for the commutative operations."""
-    result = _closed(S, hook, T)
-    if result is NotImplemented:
-        result = _closed(T, hook, S)
-    return result
-
-
 def linear_map(M, S: ConvexSet) -> ConvexSet:
     """{M s : s ∈ S} (smoothing paper (35) for CZs)."""
     if isinstance(S, EmptySet):
         return EmptySet(M.shape[0])
-    result = _closed(S, "_linear_map", M)
+    result = S._closed_linear_map(M)
     if result is not NotImplemented:
         return result
     cz = S._flat_cz
@@ -54,7 +45,7 @@ def translate(S: ConvexSet, v: np.ndarray) -> ConvexSet:
     """S + v."""
     if isinstance(S, EmptySet):
         return S
-    result = _closed(S, "_translate", v)
+    result = S._closed_translate(v)
     if result is not NotImplemented:
         return result
     if isinstance(S, LinearMap):
@@ -66,7 +57,9 @@ def minkowski_sum(S: ConvexSet, T: ConvexSet) -> ConvexSet:
     """S ⊕ T (smoothing paper (36) for CZs)."""
     if isinstance(S, EmptySet) or isinstance(T, EmptySet):
         return EmptySet(S.dim)
-    result = _either(S, T, "_closed_sum")
+    result = S._closed_sum(T)
+    if result is NotImplemented:
+        result = T._closed_sum(S)
     if result is not NotImplemented:
         return result
     a, b = S._flat_cz, T._flat_cz
@@ -79,7 +72,9 @@ def intersection(S: ConvexSet, T: ConvexSet) -> ConvexSet:
     """S ∩ T (the generalized intersection with R = I for CZs)."""
     if isinstance(S, EmptySet) or isinstance(T, EmptySet):
         return EmptySet(S.dim)
-    result = _either(S, T, "_closed_intersection")
+    result = S._closed_intersection(T)
+    if result is NotImplemented:
+        result = T._closed_intersection(S)
     if result is not NotImplemented:
         return result
     a, b = S._flat_cz, T._flat_cz
@@ -92,7 +87,9 @@ def generalized_intersection(S: ConvexSet, R, Y: ConvexSet) -> ConvexSet:
     """{s ∈ S : R s ∈ Y} (smoothing paper (37), stability (21))."""
     if isinstance(S, EmptySet) or isinstance(Y, EmptySet):
         return EmptySet(S.dim)
-    result = _closed(S, "_closed_generalized_intersection", R, Y)
+    result = S._closed_generalized_intersection(R, Y)
+    if result is NotImplemented:  # the closed form Y knows: widening does not depend on the order
+        result = Y._closed_reflected_generalized_intersection(S, R)
     if result is not NotImplemented:
         return result
     a, b = S._flat_cz, Y._flat_cz
@@ -105,7 +102,9 @@ def cartesian_product(S: ConvexSet, T: ConvexSet) -> ConvexSet:
     """S × T."""
     if isinstance(S, EmptySet) or isinstance(T, EmptySet):
         return EmptySet(S.dim + T.dim)
-    result = _closed(S, "_closed_product", T)
+    result = S._closed_product(T)
+    if result is NotImplemented:  # the closed form T knows: Box × HPolytope is an HPolytope too
+        result = T._closed_reflected_product(S)
     if result is not NotImplemented:
         return result
     a, b = S._flat_cz, T._flat_cz

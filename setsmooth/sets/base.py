@@ -18,6 +18,7 @@ import numpy as np
 from .. import tolerances as tol
 from .._validation import as_directions, as_matrix, as_vector, real_number
 from ..solvers import GenericProgram
+from .hooks import AlgebraHooks
 
 if TYPE_CHECKING:  # pragma: no cover
     from .box import Box
@@ -27,10 +28,11 @@ if TYPE_CHECKING:  # pragma: no cover
 _PATHS = ("auto", "generic")
 
 
-class ConvexSet(ABC):
+class ConvexSet(AlgebraHooks, ABC):
     """A closed convex subset of ℝⁿ described by CVXPY constraints.
 
-    Subclasses implement `constraints` and set ``dim``; every other query has a default here.
+    Subclasses implement `constraints` and set ``dim``; every other query has a default here, and
+    the set-algebra hooks (``_closed_*``) are declared with NotImplemented defaults in `AlgebraHooks`.
     Sets are immutable: operations return new sets and cache solver data on themselves.
 
     Attributes

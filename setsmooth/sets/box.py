@@ -151,15 +151,15 @@ class Box(ConvexSet):
         return HPolytope._trusted(H[keep], k[keep], self.dim)
 
     # -- closed-form algebra -----------------------------------------------------------------------
-    def _translate(self, v: np.ndarray) -> "Box":
+    def _closed_translate(self, v: np.ndarray) -> "Box":
         return Box._trusted(self.lo + v, self.hi + v)
 
     def _project(self, idx: np.ndarray) -> "Box":
         return Box._trusted(self.lo[idx], self.hi[idx])
 
-    def _linear_map(self, M):
+    def _closed_linear_map(self, M):
         if self.is_bounded:
-            return self.to_zonotope()._linear_map(M)
+            return self.to_zonotope()._closed_linear_map(M)
         return NotImplemented
 
     def _closed_sum(self, other):

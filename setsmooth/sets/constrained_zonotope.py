@@ -166,6 +166,13 @@ class ConstrainedZonotope(ConvexSet):
     def _translate(self, v: np.ndarray) -> "ConstrainedZonotope":
         return ConstrainedZonotope._trusted(self.G, self.c + v, self.A, self.b, self.h, self._factors)
 
+    # The algebra hooks are these two exact CZ operations.
+    def _closed_linear_map(self, M) -> "ConstrainedZonotope":
+        return self._linear_map(M)
+
+    def _closed_translate(self, v: np.ndarray) -> "ConstrainedZonotope":
+        return self._translate(v)
+
     def _project(self, idx: np.ndarray) -> "ConstrainedZonotope":
         G = self.G[idx] if not sp.issparse(self.G) else sp.csc_matrix(self.G.tocsr()[idx])
         return ConstrainedZonotope._trusted(G, self.c[idx], self.A, self.b, self.h, self._factors)

@@ -110,12 +110,12 @@ class Ellipsoid(ConvexSet):
         u *= rng.uniform(size=(size, 1)) ** (1.0 / self.dim)
         return u @ self.root.T + self.c
 
-    def _linear_map(self, M) -> "Ellipsoid":
+    def _closed_linear_map(self, M) -> "Ellipsoid":
         """M E(c, Q) = E(Mc, MQMᵀ)."""
         M = M.toarray() if sp.issparse(M) else M
         return Ellipsoid._trusted(M @ self.c, M @ self.Q @ M.T)
 
-    def _translate(self, v: np.ndarray) -> "Ellipsoid":
+    def _closed_translate(self, v: np.ndarray) -> "Ellipsoid":
         return Ellipsoid._trusted(self.c + v, self.Q)
 
     def _project(self, idx: np.ndarray) -> "Ellipsoid":

@@ -67,7 +67,7 @@ class HPolytope(ConvexSet):
         return center
 
     # -- closed-form algebra -----------------------------------------------------------------------
-    def _translate(self, v: np.ndarray) -> "HPolytope":
+    def _closed_translate(self, v: np.ndarray) -> "HPolytope":
         return HPolytope._trusted(self.H, self.k + self.H @ v, self.dim)
 
     def _closed_intersection(self, other):
@@ -85,6 +85,13 @@ class HPolytope(ConvexSet):
         R = R.toarray() if sp.issparse(R) else R
         return HPolytope._trusted(np.vstack([self.H, Y.H @ R]), np.concatenate([self.k, Y.k]), self.dim)
 
+    def _closed_reflected_generalized_intersection(self, S, R):
+        """{s ∈ S : Rs ∈ P} for an S with an H-form (a Box): the same closed form as S ∩_R P."""
+        S = _as_hpolytope(S)
+        if S is None:
+            return NotImplemented
+        return S._closed_generalized_intersection(R, self)
+
     def _closed_product(self, other):
         other = _as_hpolytope(other)
         if other is None:
@@ -93,12 +100,23 @@ class HPolytope(ConvexSet):
         return HPolytope._trusted(scipy.linalg.block_diag(self.H, other.H),
                                   np.concatenate([self.k, other.k]), self.dim + other.dim)
 
+    def _closed_reflected_product(self, S):
+        """S × P for an S with an H-form (a Box, ℝⁿ)."""
+        S = _as_hpolytope(S)
+        if S is None:
+            return NotImplemented
+        return S._closed_product(self)
+
 
 def _as_hpolytope(S):
+    """An H-form of a Box, of ℝⁿ (no rows) or of an HPolytope; None for other representations."""
     from .box import Box
+    from .reals import Reals
 
     if isinstance(S, HPolytope):
         return S
     if isinstance(S, Box):
         return S.to_hpolytope()
+    if isinstance(S, Reals):
+        return HPolytope._trusted(np.zeros((0, S.dim)), np.zeros(0), S.dim)
     return None

@@ -87,11 +87,11 @@ class Zonotope(ConvexSet):
                                             np.ones(self.ng))
 
     # -- closed-form algebra -----------------------------------------------------------------------
-    def _linear_map(self, M) -> "Zonotope":
+    def _closed_linear_map(self, M) -> "Zonotope":
         M = M.toarray() if sp.issparse(M) else M
         return Zonotope._trusted(M @ self.G, M @ self.c)
 
-    def _translate(self, v: np.ndarray) -> "Zonotope":
+    def _closed_translate(self, v: np.ndarray) -> "Zonotope":
         return Zonotope._trusted(self.G, self.c + v)
 
     def _project(self, idx: np.ndarray) -> "Zonotope":

@@ -19,7 +19,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .._validation import real_number
-from ..filters.interval import IntervalEstimates, _eval_eta, _noise_intervals
+from ..intervals import IntervalEstimates, eval_eta, noise_intervals
 
 # brentq stops when the bracket is below _XTOL + _RTOL·|x|, i.e. at about machine precision.
 _XTOL = 1e-14
@@ -69,7 +69,7 @@ def interval_smoother(eta: Callable[[float], float], w_interval: Any, filtered: 
         raise TypeError(f"filtered must be IntervalEstimates (from interval_filter), got "
                         f"{type(filtered).__name__}")
     T = len(filtered) - 1
-    w = _noise_intervals(w_interval, T)
+    w = noise_intervals(w_interval, T)
     all_empty = IntervalEstimates(np.full(T + 1, np.nan), np.full(T + 1, np.nan))
     if filtered.empty.any():
         return all_empty
@@ -120,7 +120,7 @@ def invert_increasing(eta: Callable[[float], float], value: float,
     lo, hi = (min(finite), max(finite)) if finite else (value, value)
 
     def f(x: float) -> float:
-        return _eval_eta(eta, x) - value
+        return eval_eta(eta, x) - value
 
     f_lo, f_hi = f(lo), f(hi)
     if f_lo > f_hi:
@@ -155,7 +155,7 @@ def _smoothed_lower(eta, eta_inverse, target: float, a: float, b: float) -> floa
     if eta_inverse is not None:
         return max(_checked(eta_inverse, target), a)
     # η(a) ≥ target already means η⁻¹(target) ≤ a: the max is a, no root to find.
-    if np.isfinite(a) and _eval_eta(eta, a) >= target:
+    if np.isfinite(a) and eval_eta(eta, a) >= target:
         return a
     return max(invert_increasing(eta, target, (a, b)), a)
 
@@ -164,7 +164,7 @@ def _smoothed_upper(eta, eta_inverse, target: float, a: float, b: float) -> floa
     """b̃_k = min(η⁻¹(target), b) with target = b̃_{k+1} − w_lo (29)–(30)."""
     if eta_inverse is not None:
         return min(_checked(eta_inverse, target), b)
-    if np.isfinite(b) and _eval_eta(eta, b) <= target:
+    if np.isfinite(b) and eval_eta(eta, b) <= target:
         return b
     return min(invert_increasing(eta, target, (a, b)), b)
 

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from setsmooth.filters.interval import IntervalEstimates, interval_filter
+from setsmooth.filters.interval import interval_filter
+from setsmooth.intervals import IntervalEstimates
 
 W = (-1.0, 1.0)
 V = (1.0, 3.0)

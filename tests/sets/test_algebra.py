@@ -72,7 +72,10 @@ CASES = [
     ("Box.preimage", lambda: BOX.preimage(M), ss.ConstrainedZonotope),
     ("Zonotope.preimage(singular)", lambda: ZONO.preimage([[1.0, 1.0], [1.0, 1.0]]),
      ss.ConstrainedZonotope),
-    ("HPolytope.preimage", lambda: POLY.preimage(M), ss.GeneralizedIntersection),
+    ("HPolytope.preimage", lambda: POLY.preimage(M), ss.HPolytope),
+    ("Reals ∩_R HPolytope", lambda: REALS.intersect_preimage(M, POLY), ss.HPolytope),
+    ("Box ∩_R HPolytope", lambda: BOX.intersect_preimage([[1.0, 1.0]], ss.HPolytope([[1.0], [-1.0]], [1.0, 0.0])),
+     ss.HPolytope),
     # products
     ("Box * Box", lambda: BOX * BOX, ss.Box),
     ("Box * Zonotope", lambda: BOX * ZONO, ss.Zonotope),
@@ -80,6 +83,7 @@ CASES = [
     ("CZ * Box", lambda: CZ * BOX, ss.ConstrainedZonotope),
     ("HPolytope * HPolytope", lambda: POLY * POLY, ss.HPolytope),
     ("HPolytope * Box", lambda: POLY * BOX, ss.HPolytope),
+    ("Box * HPolytope", lambda: BOX * POLY, ss.HPolytope),
     ("Ellipsoid * Box", lambda: ELL * BOX, ss.CartesianProduct),
     # projections
     ("Box.project", lambda: BOX.project([1]), ss.Box),

@@ -15,10 +15,6 @@ def corners(B):
     return np.array(list(itertools.product(*zip(B.lo, B.hi))))
 
 
-def test_docstring_example():
-    assert ss.Box([-1, 0], [1, 2]).support([1, 1]) == 3.0
-
-
 def test_support_is_attained_at_the_corner_picked_by_the_signs_of_the_direction():
     B = ss.Box([-1.0, 0.0, 2.0], [1.0, 3.0, 2.5])
     rng = np.random.default_rng(0)

@@ -19,11 +19,6 @@ def random_cz(seed=0, n=3, ng=7, nc=2, h=None):
     return ss.ConstrainedZonotope(G, rng.uniform(-1, 1, n), A=A, b=A @ xi0, h=h)
 
 
-def test_docstring_example():
-    Z = ss.ConstrainedZonotope(np.eye(2), np.zeros(2), A=[[1.0, 1.0]], b=[1.0])
-    assert round(Z.support([1.0, 1.0]), 6) == 1.0
-
-
 def test_the_triangle_cut_from_a_square_by_a_constraint_has_the_expected_supports():
     # ξ ∈ [−1, 1]², ξ1 + ξ2 = 1: the segment from (0, 1) to (1, 0).
     Z = ss.ConstrainedZonotope(np.eye(2), np.zeros(2), A=[[1.0, 1.0]], b=[1.0])

@@ -14,10 +14,6 @@ def random_ellipsoid(seed=0, n=3, rank=None):
     return ss.Ellipsoid(rng.uniform(-1, 1, n), L @ L.T)
 
 
-def test_docstring_example():
-    assert ss.Ellipsoid([0.0, 0.0], np.diag([4.0, 1.0])).support([1.0, 0.0]) == 2.0
-
-
 @pytest.mark.parametrize("rank", [0, 1, 2, 3])
 def test_closed_form_support_equals_the_generic_program(rank):
     E = random_ellipsoid(rank, rank=rank)

@@ -10,11 +10,6 @@ import setsmooth as ss
 SQUARE = ss.HPolytope(np.vstack([np.eye(2), -np.eye(2)]), np.ones(4))
 
 
-def test_docstring_example():
-    P = ss.HPolytope([[1.0, 1.0], [-1.0, 0.0], [0.0, -1.0]], [1.0, 0.0, 0.0])
-    assert round(P.area(), 6) == 0.5
-
-
 def test_support_of_a_square_is_its_l1_norm_and_agrees_across_paths():
     D = np.random.default_rng(0).standard_normal((10, 2))
     np.testing.assert_allclose(SQUARE.support_many(D), np.abs(D).sum(axis=1), atol=1e-7)

@@ -16,11 +16,6 @@ def random_zonotope(seed=0, n=3, ng=5):
     return ss.Zonotope(rng.standard_normal((n, ng)), rng.uniform(-1, 1, n))
 
 
-def test_docstring_example():
-    Z = ss.Zonotope([[1.0, 1.0], [0.0, 1.0]], [0.0, 0.0])
-    assert Z.interval_hull().hi.tolist() == [2.0, 1.0]
-
-
 def test_support_is_centre_term_plus_l1_norm_of_projected_generators():
     Z = random_zonotope()
     D = np.random.default_rng(1).standard_normal((15, 3))

@@ -86,3 +86,47 @@ def test_empty_data_give_empty_smoothed_sets():
 def test_smoother_rejects_an_unknown_method():
     with pytest.raises(ValueError, match="method must be one of"):
         ss.optimal_smoother(example_31(), ss.Box([-1, -1], [1, 1]), np.zeros((2, 2)), method="rts")
+
+
+def test_auto_takes_the_trajectory_form_for_cz_sets_and_gives_the_recursion_sets():
+    sys = example_31()
+    X0 = ss.Box([-3, -3], [3, 3])
+    _, ys = ss.simulate(sys, X0, 6, np.random.default_rng(21))
+    auto = ss.optimal_smoother(sys, X0, ys)
+    # The trajectory form's signature: every smoothed set is a projection of one shared factor set.
+    assert len({id(S.factors) for S in auto}) == 1
+    recursion = ss.optimal_smoother(sys, X0, ys, method="recursion")
+    for a, r in zip(auto, recursion):
+        assert np.allclose(a.support_many(DIRECTIONS_2D), r.support_many(DIRECTIONS_2D), atol=1e-6)
+
+
+def test_auto_takes_the_recursion_when_a_noise_has_no_cz_form():
+    base = example_31()
+    sys = ss.LinearSystem(base.A(0), base.B(0), base.C(0), base.D(0), W=ss.Ellipsoid([0.0], [[1.0]]),
+                          V=base.V)
+    X0 = ss.Box([-3, -3], [3, 3])
+    xs, ys = ss.simulate(sys, X0, 3, np.random.default_rng(2))
+    with pytest.raises(TypeError, match="no exact constrained-zonotope form"):
+        ss.optimal_smoother(sys, X0, ys, method="trajectory")
+    auto = ss.optimal_smoother(sys, X0, ys)
+    for k, S in enumerate(auto):
+        assert not isinstance(S, ss.ConstrainedZonotope)  # lazy sets of the recursion
+        assert S.contains(xs[k], tol=1e-6)
+
+
+def test_auto_with_given_posteriors_uses_them_in_the_recursion():
+    sys = example_31()
+    X0 = ss.Box([-3, -3], [3, 3])
+    _, ys = ss.simulate(sys, X0, 4, np.random.default_rng(3))
+    posts = ss.classical_filter(sys, X0, ys)
+    smoothed = ss.optimal_smoother(sys, X0, ys, posteriors=posts)
+    assert smoothed[-1] is posts[-1]
+
+
+def test_posteriors_with_the_trajectory_form_are_refused():
+    sys = example_31()
+    X0 = ss.Box([-3, -3], [3, 3])
+    ys = np.zeros((3, 2))
+    posts = ss.classical_filter(sys, X0, ys)
+    with pytest.raises(ValueError, match="posteriors= is only used by method='recursion'"):
+        ss.optimal_smoother(sys, X0, ys, method="trajectory", posteriors=posts)

@@ -5,28 +5,16 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from setsmooth.filters.interval import IntervalEstimates, interval_filter
+from setsmooth.filters.interval import interval_filter
+from setsmooth.intervals import IntervalEstimates
+from setsmooth.paper_examples import (SMOOTHING_33_V, SMOOTHING_33_W, eta_33, eta_33_inverse,
+                                      measurement_interval_34)
 from setsmooth.smoothers.nonlinear import interval_smoother, invert_increasing
 
-W = (-1.0, 1.0)
-V = (1.0, 3.0)
+W = SMOOTHING_33_W
+V = SMOOTHING_33_V
 X0 = (-1.0, 1.0)
-
-
-def eta33(x):
-    """Smoothing paper (33): η(x) = ∛x + x."""
-    return np.cbrt(x) + x
-
-
-def eta33_inverse(t):
-    """Closed-form η⁻¹ for (33): s = ∛x solves the depressed cubic s³ + s = t (Cardano, one root)."""
-    r = np.sqrt(t * t / 4.0 + 1.0 / 27.0)
-    s = np.cbrt(t / 2.0 + r) + np.cbrt(t / 2.0 - r)
-    return s ** 3
-
-
-def meas34(k, y):
-    return (y - V[1]) / 2.0, (y - V[0]) / 2.0
+eta33, eta33_inverse, meas34 = eta_33, eta_33_inverse, measurement_interval_34
 
 
 def simulate33(rng, T):

@@ -1,0 +1,109 @@
+"""The figure-script protocol, written once for every paper.
+
+A figure script ``<paper>_<figure>.py`` in this directory defines
+
+* ``NAME`` (its file stem: the outputs are ``<NAME>.png`` and ``<NAME>.json``), ``PAPER`` (the short
+  name of its paper in ``/papers/INDEX.md``: ``smoothing``, ``stability``, ...) and ``DEFAULT_RUNS``;
+* ``main(runs, seed, out, workers, progress, executor) -> dict``, which runs the Monte Carlo
+  (`setsmooth.montecarlo.run`), builds the figure and returns `finish(...)`;
+* ``if __name__ == "__main__": cli(main, DEFAULT_RUNS, __doc__.splitlines()[0])``.
+
+The JSON written by `finish` holds the plotted numbers plus the keys the report reads: ``paper``,
+``figure``, ``rows`` (made by `row`: a published value or claim beside ours), ``settings``,
+``published``, ``notes``, ``wall_time_s`` and ``cpu_time_s``. ``setsmooth figures`` (`setsmooth.cli`)
+runs the scripts and then ``report.py``, which groups the rows by paper; each paper's conventions
+(``REPORT_PREAMBLE``, ``PAPER_TITLE``) live in its ``_<paper>_examples.py``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+DEFAULT_OUT = Path(__file__).resolve().parent / "out"
+
+
+class Stopwatch:
+    """Wall time, and CPU time of this process plus its finished worker processes (Unix)."""
+
+    def __init__(self):
+        self.start = time.perf_counter()
+        self.cpu_start = _cpu_time()
+
+    @property
+    def seconds(self) -> float:
+        return round(time.perf_counter() - self.start, 2)
+
+    @property
+    def cpu_seconds(self) -> float | None:
+        now = _cpu_time()
+        return None if now is None else round(now - self.cpu_start, 2)
+
+
+def _cpu_time() -> float | None:
+    try:
+        import resource
+    except ImportError:   # Windows
+        return None
+    usage = [resource.getrusage(who) for who in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)]
+    return sum(u.ru_utime + u.ru_stime for u in usage)
+
+
+def row(quantity: str, paper: Any, ours: Any) -> dict:
+    """One line of the report: a published value or claim beside ours."""
+    return {"quantity": quantity, "paper": paper, "ours": ours}
+
+
+def finish(out: Path | None, name: str, paper: str, fig, data: dict, clock: Stopwatch) -> dict:
+    """Stamp ``data`` with its paper and timings, write ``<name>.png`` and ``<name>.json``, return it."""
+    data = {"paper": paper, **data, "wall_time_s": clock.seconds, "cpu_time_s": clock.cpu_seconds}
+    return write_outputs(out, name, fig, data)
+
+
+def write_outputs(out: Path | None, name: str, fig, data: dict) -> dict:
+    """Write ``<name>.png`` and ``<name>.json`` to ``out`` (default ``paper_figures/out``); return ``data``."""
+    out = Path(out) if out is not None else DEFAULT_OUT
+    out.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out / f"{name}.png", dpi=150, bbox_inches="tight")
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+    (out / f"{name}.json").write_text(json.dumps(jsonable(data), indent=1))
+    return data
+
+
+def jsonable(obj: Any) -> Any:
+    """``obj`` with NumPy arrays and scalars as JSON types; non-finite floats as strings ('inf', 'nan')."""
+    if isinstance(obj, dict):
+        return {str(k): jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return jsonable(obj.tolist())
+    if isinstance(obj, (np.bool_, bool)):
+        return bool(obj)
+    if isinstance(obj, np.integer):
+        return int(obj)
+    if isinstance(obj, (np.floating, float)):
+        value = float(obj)
+        return value if np.isfinite(value) else str(value)
+    return obj
+
+
+def cli(main: Callable[..., dict], default_runs: int, description: str) -> None:
+    """``--runs --seed --out --workers`` for a figure script run on its own; prints its report rows."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--runs", type=int, default=default_runs,
+                        help=f"Monte Carlo runs (default {default_runs})")
+    parser.add_argument("--seed", type=int, default=0, help="root seed (default 0)")
+    parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="output directory")
+    parser.add_argument("--workers", type=int, default=None, help="processes (default: 2)")
+    args = parser.parse_args()
+    result = main(runs=args.runs, seed=args.seed, out=args.out, workers=args.workers)
+    for r in result["rows"]:
+        print(f"{r['quantity']}: paper {r['paper']} | ours {r['ours']}")

@@ -1,0 +1,146 @@
+"""Interval ranges of scalar monotone systems, shared by the interval filter and smoother.
+
+Smoothing paper (27)–(30): for x_{k+1} = η(x_k) + w_k with η continuous and strictly increasing, every
+filtered and smoothed range is an interval. `IntervalEstimates` holds them (NaN marks an empty range:
+NaN can never pass as a real bound in a comparison); `eval_eta`, `noise_intervals` and `as_interval`
+check the user's η and intervals the same way for `setsmooth.filters.interval` and
+`setsmooth.smoothers.nonlinear`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ._validation import real_array, real_number
+
+__all__ = ["IntervalEstimates", "eval_eta", "noise_intervals", "as_interval"]
+
+
+@dataclass(frozen=True)
+class IntervalEstimates:
+    """Interval ranges [lo[k], hi[k]] for k = 0..T; both NaN where the range is empty.
+
+    Attributes
+    ----------
+    lo, hi : ndarray, shape (T+1,)
+        Lower and upper endpoints (read-only copies; ±inf allowed for unbounded ranges).
+
+    Raises
+    ------
+    ValueError
+        When shapes differ, NaN appears in only one endpoint, or lo > hi somewhere.
+    """
+
+    lo: np.ndarray
+    hi: np.ndarray
+
+    def __post_init__(self) -> None:
+        lo = real_array(self.lo, "lo").reshape(-1).copy() if np.ndim(self.lo) <= 1 else None
+        hi = real_array(self.hi, "hi").reshape(-1).copy() if np.ndim(self.hi) <= 1 else None
+        if lo is None or hi is None or lo.shape != hi.shape:
+            raise ValueError(f"lo and hi must be 1-D arrays of one length (T+1,), got shapes "
+                             f"{np.shape(self.lo)} and {np.shape(self.hi)}")
+        if not np.array_equal(np.isnan(lo), np.isnan(hi)):
+            raise ValueError("lo and hi must be NaN at the same steps (NaN marks an empty range)")
+        with np.errstate(invalid="ignore"):
+            if np.any(lo > hi):
+                raise ValueError(f"lo must not exceed hi; first violation at k = {int(np.argmax(lo > hi))}")
+        lo.setflags(write=False)
+        hi.setflags(write=False)
+        # Frozen dataclass: assign the validated copies through object.__setattr__.
+        object.__setattr__(self, "lo", lo)
+        object.__setattr__(self, "hi", hi)
+
+    @property
+    def empty(self) -> np.ndarray:
+        """Boolean array, True where the range is empty."""
+        return np.isnan(self.lo)
+
+    @property
+    def diameters(self) -> np.ndarray:
+        """hi − lo for every k (NaN for an empty range, inf for an unbounded one)."""
+        return self.hi - self.lo
+
+    def __len__(self) -> int:
+        return self.lo.shape[0]
+
+
+def noise_intervals(w_interval: Any, T: int) -> np.ndarray:
+    """The process-noise ranges as a (T, 2) array of finite [w_lo, w_hi] rows, one per step k < T.
+
+    Parameters
+    ----------
+    w_interval : array_like, shape (2,) or (T, 2)
+        One constant range, or one per step.
+    T : int
+        The number of transitions.
+
+    Raises
+    ------
+    ValueError
+        On a wrong shape, infinite endpoints or w_lo > w_hi.
+
+    Examples
+    --------
+    >>> noise_intervals([-1, 1], 3).tolist()
+    [[-1.0, 1.0], [-1.0, 1.0], [-1.0, 1.0]]
+    """
+    arr = real_array(w_interval, "w_interval", "an array of intervals [w_lo, w_hi]")
+    if arr.shape == (2,):
+        arr = np.broadcast_to(arr, (T, 2))
+    if arr.shape != (T, 2):
+        raise ValueError(f"w_interval must have shape (2,) or (T, 2) = ({T}, 2), got {arr.shape}")
+    if not np.isfinite(arr).all():
+        raise ValueError("w_interval must have finite endpoints")
+    if np.any(arr[:, 0] > arr[:, 1]):
+        raise ValueError("w_interval must satisfy w_lo <= w_hi")
+    return arr
+
+
+def eval_eta(eta: Callable[[float], float], x: float) -> float:
+    """η(x) as a float, raising ValueError when η returns NaN (η must be defined on all of ℝ).
+
+    Examples
+    --------
+    >>> eval_eta(lambda x: x ** 3, 2)
+    8.0
+    """
+    value = real_number(eta(float(x)), f"eta({float(x)!r})")
+    if np.isnan(value):
+        raise ValueError(f"eta({float(x)!r}) returned NaN; eta must be defined on all of R")
+    return value
+
+
+def as_interval(value: Any, name: str, allow_inf: bool) -> tuple[float, float]:
+    """``value`` as a pair (lo, hi) of floats with lo ≤ hi, or an error naming ``name``.
+
+    Parameters
+    ----------
+    value : array_like, shape (2,)
+    name : str
+        The argument's name, for the error message.
+    allow_inf : bool
+        Whether infinite endpoints are accepted (NaN never is).
+
+    Raises
+    ------
+    TypeError, ValueError
+        When ``value`` is not a pair of numbers, or has NaN, forbidden infinities or lo > hi.
+
+    Examples
+    --------
+    >>> as_interval([-1, 2], "w", allow_inf=False)
+    (-1.0, 2.0)
+    """
+    arr = real_array(value, name, "a pair of numbers (lo, hi)").reshape(-1)
+    if arr.shape != (2,):
+        raise ValueError(f"{name} must be a pair (lo, hi) of shape (2,), got shape {np.shape(value)}")
+    if np.isnan(arr).any() or (not allow_inf and np.isinf(arr).any()):
+        raise ValueError(f"{name} must have {'non-NaN' if allow_inf else 'finite'} endpoints, got {arr}")
+    if arr[0] > arr[1]:
+        raise ValueError(f"{name} must satisfy lo <= hi, got {arr}")
+    return float(arr[0]), float(arr[1])

@@ -1,0 +1,259 @@
+"""Trajectory sets and the filtering map, one floor below filters and smoothers.
+
+The set of all state trajectories x_i..x_k consistent with y_i..y_k from a prior Z at time i,
+
+    ⟦x_{i:k} | Z, y_{i:k}⟧ = { (x_i, …, x_k) : x_i ∈ Z,  x_{l+1} = A_l x_l + B_l w_l + u_l,
+                                               y_l = C_l x_l + D_l v_l,  w_l ∈ W,  v_l ∈ V },
+
+is one sparse extended CZ (`trajectory_set`). Two projections carry the theory:
+
+* with i = 0 and Z = X0, its projection on x_l is the optimal smoothed range ⟦x_l | y_{0:k}⟧ (smoothing
+  paper Theorem 1: the smoothed range is the set of x_l over all consistent trajectories);
+* its projection on x_k is the filtering map F_{k,i}(Z) of the stability paper (7), the posterior at k
+  of the classical filter started at i from the prior Z (`filtering_map`; in CZ form stability (22)–(23),
+  here with the states kept as free factors instead of eliminated).
+
+The states themselves are free factors (h = ∞) of the extended CZ (stability paper Definition 7), so
+every constraint couples only neighbouring time steps: O(k − i) factors and sparse rows, instead of the
+dense O((k − i)²) blocks of (23) that eliminating the states would create.
+
+Factors, in order: s_i..s_k (the states, h = ∞), ξ_Z (the prior), ξ_{w,i..k−1} (W), ξ_{v,i..k} (V).
+Rows: A_Z ξ_Z = b_Z, A_w ξ_{w,l} = b_w, A_v ξ_{v,l} = b_v, then
+    s_i − G_Z ξ_Z                       = c_Z
+    s_{l+1} − A_l s_l − B_l G_w ξ_{w,l} = B_l c_w + u_l
+    C_l s_l + D_l G_v ξ_{v,l}           = y_l − D_l c_v
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from ._validation import as_measurements
+from .sets.base import ConvexSet
+from .sets.constrained_zonotope import ConstrainedZonotope
+
+__all__ = ["trajectory_set", "filtering_map"]
+
+
+def trajectory_set(system, prior: ConvexSet, ys: Any, start: int = 0,
+                   stop: int | None = None) -> ConstrainedZonotope:
+    """The set of trajectories (x_start, …, x_stop) consistent with y_start..y_stop from ``prior``.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        Its W and V must flatten to constrained zonotopes (Box, Zonotope, CZ). Time-varying matrices
+        are read at the absolute times start..stop.
+    prior : ConvexSet
+        The prior range of x_start (⟦x_0⟧ = X0 when ``start`` = 0); must flatten to a CZ.
+    ys : array_like, shape (T+1, m)
+        Measurements indexed by absolute time: ``ys[l]`` = y_l. Rows before ``start`` and after
+        ``stop`` are not used.
+    start : int
+        The first time i of the trajectories, 0 ≤ start ≤ T.
+    stop : int, optional
+        The last time k, start ≤ stop ≤ T; defaults to T.
+
+    Returns
+    -------
+    ConstrainedZonotope
+        Sparse, of dimension n(stop − start + 1); coordinates (l − start)·n .. (l − start + 1)·n − 1
+        hold x_l. All its projections share one factor set.
+
+    Raises
+    ------
+    TypeError
+        If prior, W or V has no exact constrained-zonotope form.
+    ValueError
+        If ``prior`` is not a ConvexSet of dimension n, or ``start``/``stop`` lie outside [0, T] or
+        ``stop`` < ``start``.
+
+    Examples
+    --------
+    >>> import numpy as np, setsmooth as ss
+    >>> box = ss.Box([-1.0], [1.0])
+    >>> system = ss.LinearSystem([[1.0]], [[1.0]], [[1.0]], [[1.0]], W=box, V=box)
+    >>> Z = ss.trajectory_set(system, ss.Box([-5.0], [5.0]), [[0.0], [0.5], [1.0]])
+    >>> Z.dim
+    3
+    >>> round(Z.support([0.0, 0.0, 1.0]), 6)   # x_2 ≤ y_2 + 1
+    2.0
+    """
+    ys = as_measurements(ys, system.m)
+    if not isinstance(prior, ConvexSet) or prior.dim != system.n:
+        raise ValueError(f"prior must be a ConvexSet of dimension n = {system.n}, got "
+                         f"{prior.dim if isinstance(prior, ConvexSet) else type(prior).__name__}")
+    start, stop = _window(start, stop, ys.shape[0] - 1)
+    return _assemble(system, prior.to_constrained_zonotope(), system.W.to_constrained_zonotope(),
+                     system.V.to_constrained_zonotope(), ys, start, stop)
+
+
+def filtering_map(system, prior: ConvexSet, ys: Any, i: int, k: int) -> ConstrainedZonotope:
+    """F_{k,i}(prior): the posterior at time k of the classical filter started at time i from ``prior``.
+
+    F_{k,i}(Z) = f_k ∘ … ∘ f_{i+1}(X_i(y_i) ∩ Z) for k > i and X_i(y_i) ∩ Z for k = i (stability paper
+    (7)), where X_l(y_l) = {x : y_l − C_l x ∈ D_l V} and f_l(S) = X_l(y_l) ∩ (A_{l−1} S ⊕ B_{l−1} W ⊕
+    u_{l−1}). With ``prior`` = ⟦x_i | y_{0:i−1}⟧ it is the exact posterior ⟦x_k | y_{0:k}⟧; the OIT
+    filters apply it to an outer bound of that prior. Computed as the projection on x_k of
+    `trajectory_set` (the CZ of stability (22)–(23), with the states kept as free factors).
+
+    Parameters
+    ----------
+    system : LinearSystem
+    prior : ConvexSet
+        Z, a range of x_i (before y_i is used); must flatten to a CZ.
+    ys : array_like, shape (T+1, m)
+        Measurements indexed by absolute time (``ys[l]`` = y_l); rows i..k are used.
+    i, k : int
+        Start and end times, 0 ≤ i ≤ k ≤ T.
+
+    Returns
+    -------
+    ConstrainedZonotope
+        F_{k,i}(prior), of dimension n (an extended CZ; empty when the data contradict the prior).
+
+    Raises
+    ------
+    TypeError, ValueError
+        As `trajectory_set`.
+
+    Examples
+    --------
+    >>> import numpy as np, setsmooth as ss
+    >>> box = ss.Box([-1.0], [1.0])
+    >>> system = ss.LinearSystem([[1.0]], [[1.0]], [[1.0]], [[1.0]], W=box, V=box)
+    >>> F = ss.filtering_map(system, ss.Box([-5.0], [5.0]), [[0.0], [0.5], [1.0]], 1, 2)
+    >>> hull = F.interval_hull()          # y_1 = 0.5 gives x_1 ∈ [−0.5, 1.5], then x_2 ∈ [0, 2]
+    >>> hull.lo.round(6).tolist(), hull.hi.round(6).tolist()
+    ([0.0], [2.0])
+    """
+    traj = trajectory_set(system, prior, ys, i, k)
+    n = system.n
+    return traj.project(range(traj.dim - n, traj.dim))
+
+
+def _window(start: Any, stop: Any, T: int) -> tuple[int, int]:
+    """Validated (start, stop) with 0 ≤ start ≤ stop ≤ T."""
+    stop = T if stop is None else stop
+    for name, value in (("start", start), ("stop", stop)):
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+            raise TypeError(f"{name} must be an integer time index, got {value!r}")
+    if not 0 <= start <= stop <= T:
+        raise ValueError(f"need 0 <= start <= stop <= T = {T} (the last row of ys), "
+                         f"got start = {start}, stop = {stop}")
+    return int(start), int(stop)
+
+
+class _Triplets:
+    """Nonzero (row, column, value) triplets of a sparse matrix, gathered block by block.
+
+    The matrix is built once from the concatenated index arrays: assembling it from many small scipy
+    blocks costs more than every LP that follows on short horizons.
+    """
+
+    def __init__(self) -> None:
+        self.rows: list[np.ndarray] = []
+        self.cols: list[np.ndarray] = []
+        self.vals: list[np.ndarray] = []
+
+    def put(self, row0: int, col0: int, M) -> None:
+        """Place the nonzeros of ``M`` (dense or sparse) with its top-left corner at (row0, col0)."""
+        if sp.issparse(M):
+            M = sp.coo_matrix(M)
+            keep = M.data != 0
+            r, c, v = M.row[keep], M.col[keep], M.data[keep]
+        else:
+            M = np.asarray(M, dtype=float)
+            r, c = np.nonzero(M)
+            v = M[r, c]
+        self.rows.append(r + row0)
+        self.cols.append(c + col0)
+        self.vals.append(v)
+
+    def put_repeated(self, row0: int, col0: int, M, times: int, row_step: int, col_step: int) -> None:
+        """Place ``M`` ``times`` times, shifted by (row_step, col_step) each time (block diagonal)."""
+        if times == 0:
+            return
+        probe = _Triplets()
+        probe.put(0, 0, M)
+        r, c, v = probe.rows[0], probe.cols[0], probe.vals[0]
+        shifts = np.arange(times)
+        self.rows.append((r[None, :] + row0 + row_step * shifts[:, None]).ravel())
+        self.cols.append((c[None, :] + col0 + col_step * shifts[:, None]).ravel())
+        self.vals.append(np.tile(v, times))
+
+    def to_csc(self, shape: tuple[int, int]) -> sp.csc_matrix:
+        rows = np.concatenate(self.rows) if self.rows else np.zeros(0, int)
+        cols = np.concatenate(self.cols) if self.cols else np.zeros(0, int)
+        vals = np.concatenate(self.vals) if self.vals else np.zeros(0)
+        M = sp.coo_matrix((vals, (rows, cols)), shape=shape).tocsc()
+        M.sum_duplicates()  # blocks never overlap; this puts the matrix in canonical (sorted) form
+        return M
+
+
+def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: ConstrainedZonotope,
+              ys: np.ndarray, start: int, stop: int) -> ConstrainedZonotope:
+    n, m = system.n, system.m
+    steps = stop - start  # number of transitions
+    # Column offsets of each factor group.
+    n_states = n * (steps + 1)
+    col_x0 = n_states
+    col_w = col_x0 + Z0.ng
+    col_v = col_w + steps * Zw.ng
+    n_factors = col_v + (steps + 1) * Zv.ng
+
+    A = _Triplets()
+    rhs: list[np.ndarray] = []
+    row = 0
+    # Constraints of the prior's and the noises' factor sets.
+    A.put(row, col_x0, Z0.A)
+    rhs.append(Z0.b)
+    row += Z0.nc
+    A.put_repeated(row, col_w, Zw.A, steps, Zw.nc, Zw.ng)
+    rhs.append(np.tile(Zw.b, steps))
+    row += steps * Zw.nc
+    A.put_repeated(row, col_v, Zv.A, steps + 1, Zv.nc, Zv.ng)
+    rhs.append(np.tile(Zv.b, steps + 1))
+    row += (steps + 1) * Zv.nc
+
+    eye = np.eye(n)
+    # x_start ∈ prior
+    A.put(row, 0, eye)
+    A.put(row, col_x0, -Z0.G)
+    rhs.append(Z0.c)
+    row += n
+    # dynamics
+    Gw = _dense(Zw.G)
+    for j in range(steps):
+        k = start + j
+        Bk = system.B(k)
+        A.put(row, (j + 1) * n, eye)
+        A.put(row, j * n, -system.A(k))
+        A.put(row, col_w + j * Zw.ng, -(Bk @ Gw))
+        rhs.append(Bk @ Zw.c + system.input_term(k))
+        row += n
+    # measurements
+    Gv = _dense(Zv.G)
+    for j in range(steps + 1):
+        k = start + j
+        Dk = system.D(k)
+        A.put(row, j * n, system.C(k))
+        A.put(row, col_v + j * Zv.ng, Dk @ Gv)
+        rhs.append(ys[k] - Dk @ Zv.c)
+        row += m
+
+    A_matrix = A.to_csc((row, n_factors))
+    b = np.concatenate(rhs)
+    G = sp.csc_matrix((np.ones(n_states), (np.arange(n_states), np.arange(n_states))),
+                      shape=(n_states, n_factors))
+    h = np.concatenate([np.full(n_states, np.inf), Z0.h, np.tile(Zw.h, steps), np.tile(Zv.h, steps + 1)])
+    trajectories = ConstrainedZonotope._trusted(G, np.zeros(n_states), A_matrix, b, h)
+    trajectories.factors  # created now, so that every projection shares one factor set
+    return trajectories
+
+
+def _dense(M) -> np.ndarray:
+    return M.toarray() if sp.issparse(M) else np.asarray(M)
