@@ -17,10 +17,17 @@ import numpy as np
 from .._validation import as_measurements
 from ..sets.base import ConvexSet
 from ..sets.empty import EmptySet
+from ..sets.reduction import apply_methods, as_methods
 
 
-def classical_filter(system, X0: ConvexSet, ys: Any, *, detect_empty: bool = True) -> list[ConvexSet]:
+def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
+                     detect_empty: bool = True) -> list[ConvexSet]:
     """Posterior ranges ⟦x_k | y_{0:k}⟧ for k = 0..T (stability paper Algorithm 1).
+
+    With ``reduce`` it is a bounded filter: the reduction is applied to every posterior before the next
+    prediction (CORA's reduced constrained-zonotope observer is Algorithm 1 plus this one line, e.g.
+    ``reduce=ss.CORA_GIRARD``). The estimates are then **outer bounds** of the exact posteriors,
+    ⟦x_k | y_{0:k}⟧ ⊆ posteriors[k], not the posteriors themselves; their complexity stays bounded.
 
     Parameters
     ----------
@@ -29,6 +36,10 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, detect_empty: bool = Tru
         Initial prior range ⟦x_0⟧.
     ys : array_like, shape (T+1, m)
         Measurements y_0..y_T.
+    reduce : ReductionMethod or sequence of ReductionMethod, optional
+        Order reduction applied to every posterior (see `setsmooth.reduce`), e.g. ``ss.CORA_GIRARD``
+        or ``(ss.Rescale('iter'), ss.EliminateConstraints(1), ss.Girard(1))``. None (default): the
+        exact filter.
     detect_empty : bool
         Check each posterior for emptiness (one feasibility program per step) and return `EmptySet`
         from the first empty one on. With False the sets are returned as computed; an empty one is
@@ -37,10 +48,12 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, detect_empty: bool = Tru
     Returns
     -------
     list of ConvexSet
-        ``posteriors[k]`` = ⟦x_k | y_{0:k}⟧. An empty posterior means the measurements are
-        inconsistent with the model (ill-posedness is data, not an exception).
+        ``posteriors[k]`` = ⟦x_k | y_{0:k}⟧, or a superset of it with ``reduce``. An empty posterior
+        means the measurements are inconsistent with the model (ill-posedness is data, not an
+        exception).
     """
     ys = as_measurements(ys, system.m)
+    methods = None if reduce is None else as_methods(reduce, "reduce")
     if not isinstance(X0, ConvexSet) or X0.dim != system.n:
         raise ValueError(f"X0 must be a ConvexSet of dimension n = {system.n}")
     minus_V = -system.V
@@ -50,6 +63,8 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, detect_empty: bool = Tru
         if k > 0:
             prior = predict(system, k - 1, posteriors[-1])
         posterior = update(system, k, prior, y, minus_V)
+        if methods is not None:
+            posterior = apply_methods(posterior, methods)
         if detect_empty and not isinstance(posterior, EmptySet) and posterior.is_empty():
             posterior = EmptySet(system.n)
         posteriors.append(posterior)
