@@ -136,7 +136,8 @@ def test_propagated_factor_ranges_contain_the_exact_ranges(seed):
     A = rng.standard_normal((nc, ng)) * 10.0 ** rng.uniform(-3, 3, (nc, 1))
     h = rng.uniform(0.5, 2.0, ng)
     b = A @ (rng.uniform(-0.9, 0.9, ng) * h)
-    lo, hi, Rlo, Rhi = propagate(A, b, h)
+    lo, hi, Rlo, Rhi, crossed = propagate(A, b, h)
+    assert not crossed
     exact = ss.ConstrainedZonotope(np.eye(ng), np.zeros(ng), A=A, b=b, h=h).interval_hull()
     scale = 1e-8 * (1 + h.max())
     assert np.all(lo <= exact.lo + scale) and np.all(hi >= exact.hi - scale)
@@ -147,7 +148,7 @@ def test_propagation_pins_a_factor_exactly_determined_by_one_row():
     # ξ0 = 0.3 exactly (row 1), so ξ1 + ξ2 = 0.1·3 − ... every bound stays a rigorous enclosure.
     A = np.array([[3.0, 0.0, 0.0], [1.0, 1.0, 1.0]])
     b = np.array([0.9, 0.1])
-    lo, hi, _, _ = propagate(A, b, np.ones(3))
+    lo, hi, _, _, _ = propagate(A, b, np.ones(3))
     assert lo[0] <= 0.3 <= hi[0] and hi[0] - lo[0] < 1e-14
 
 

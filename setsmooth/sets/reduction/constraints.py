@@ -60,7 +60,10 @@ def hausdorff_heuristic(d: CZData, r: np.ndarray) -> np.ndarray:
     ng, nc = d.ng, d.nc
     Q = np.block([[d.G.T @ d.G + np.eye(ng), d.A.T], [d.A, np.zeros((nc, nc))]])
     rhs = np.vstack([np.eye(ng), np.zeros((nc, ng))])
-    M = np.linalg.solve(Q, rhs)
+    try:
+        M = np.linalg.solve(Q, rhs)
+    except np.linalg.LinAlgError:  # A of numerically deficient rank: the least-squares solution
+        M = np.linalg.lstsq(Q, rhs, rcond=None)[0]
     diag = np.diag(M[:ng])
     with np.errstate(invalid="ignore", divide="ignore"):
         H = np.where(r == 0.0, 0.0, r ** 2 / diag)
@@ -71,11 +74,12 @@ def hausdorff_heuristic(d: CZData, r: np.ndarray) -> np.ndarray:
 class EliminateConstraints(ReductionMethod):
     """Reduce a CZ to at most ``max_constraints`` equality constraints (Scott et al. 2016 §4.2). Outer.
 
-    First, exactly: zero and dependent rows are dropped, free factors (h = ∞) that appear in a
-    constraint are eliminated, and so is every factor whose propagated range lies inside its bound
-    (re-propagating after each). Then, while more than ``max_constraints`` rows remain: rescale
-    (`Rescale('iter')`), and eliminate the factor of smallest Hausdorff-error heuristic (A.8) through
-    a row where it appears (eqs. (27)/(29)). The result contains the input.
+    First, exactly: zero and dependent rows are dropped and free factors (h = ∞) that appear in a
+    constraint are eliminated. Then, one factor at a time: rescale (`Rescale('iter')`); if some
+    factor's propagated range lies inside its bound, eliminate it (exact, taken even below the count
+    asked for); otherwise, while more than ``max_constraints`` rows remain, eliminate the factor of
+    smallest Hausdorff-error heuristic (A.8) through a row where it appears (eqs. (27)/(29)). The
+    result contains the input.
 
     Parameters
     ----------
@@ -114,35 +118,24 @@ class EliminateConstraints(ReductionMethod):
             if free.size == 0:
                 break
             d = eliminate_factor(d, int(free[0]))
-        d = self._exact_eliminations(d)
-        if d is None:
-            return EmptySet(Z.dim)
-        while d.nc > self.max_constraints:
+        while d.nc:
             step = _rescaled(d)
             if step is None:
                 return EmptySet(Z.dim)
-            d, r, _ = step
+            d, r, inside = step
+            used = np.any(d.A != 0.0, axis=0)
+            exact = np.flatnonzero(inside & used)
+            if exact.size:  # lossless: always taken, also below the count asked for
+                d = eliminate_factor(d, int(exact[0]))
+                continue
             if d.nc <= self.max_constraints:
                 break
             # Only a factor that appears in a constraint can be eliminated (one always does: rows
             # are independent, hence non-zero).
-            used = np.flatnonzero(np.any(d.A != 0.0, axis=0))
-            H = hausdorff_heuristic(d, r)[used]
-            d = eliminate_factor(d, int(used[np.argmin(H)]))
+            candidates = np.flatnonzero(used)
+            H = hausdorff_heuristic(d, r)[candidates]
+            d = eliminate_factor(d, int(candidates[np.argmin(H)]))
         return DropZeros().apply(d.to_set())
-
-    def _exact_eliminations(self, d: CZData) -> CZData | None:
-        """Eliminate factors whose propagated range lies inside their bound, one at a time."""
-        while d.nc:
-            step = _rescaled(d)
-            if step is None:
-                return None
-            d, _, inside = step
-            candidates = np.flatnonzero(inside & np.any(d.A != 0.0, axis=0))
-            if candidates.size == 0:
-                break
-            d = eliminate_factor(d, int(candidates[0]))
-        return d
 
 
 def _rescaled(d: CZData):
@@ -153,10 +146,9 @@ def _rescaled(d: CZData):
     never claimed wrongly), which makes eliminating j exact. ``r[j] = max(0, max|R_j| − 1)`` in the
     rescaled coordinates, the measure of the heuristic (A.8); ∞ for a free factor.
     """
-    bounds = propagate(d.A, d.b, d.h)
-    if bounds is None:
+    lo, hi, Rlo, Rhi, crossed = propagate(d.A, d.b, d.h)
+    if crossed and d.to_set().is_empty():
         return None
-    lo, hi, Rlo, Rhi = bounds
     out = rescale_data(d, lo, hi)
     bounded = np.isfinite(lo) & np.isfinite(hi)
     inside = bounded & (Rlo >= -d.h) & (Rhi <= d.h)
@@ -165,11 +157,11 @@ def _rescaled(d: CZData):
         half = np.where(bounded, (hi - lo) / 2, 1.0)
         reach = np.maximum(np.abs(Rlo - m), np.abs(Rhi - m)) / half
     r = np.where(inside | (half == 0.0), 0.0, np.where(bounded, np.maximum(0.0, reach - 1.0), np.inf))
-    # Rescaling can zero a column (a factor pinned to a point), which can leave rows dependent; the
-    # heuristic's KKT matrix needs A of full row rank.
     if not np.any(bounded & (lo == hi)):
         return out, r, inside  # columns scaled by r > 0: the rank is unchanged
+    # A factor pinned to a point has a zero column now, which can leave rows dependent; the
+    # heuristic's KKT matrix needs A of full row rank. Dropping a dependent row loses nothing.
     basis = independent_rows(out.A, out.b)
-    if not basis.consistent:
+    if not basis.consistent and out.to_set().is_empty():
         return None
     return out.keep_rows(basis.keep), r, inside

@@ -5,7 +5,10 @@
 * `MergeParallelGenerators`: parallel generators of a zonotope, parallel lifted columns [g; a] of a CZ.
 
 An inconsistent constraint (a zero row with b ≠ 0, or a dependent row whose right-hand side disagrees)
-proves the set empty, and the result is `EmptySet`.
+means the set is empty, and the result is `EmptySet` once the emptiness program (`is_empty`, the
+library's tolerance policy) agrees. Otherwise the disagreement is rounding left in the data by the set
+algebra (a posterior that is a single point, from extreme noise realizations, comes out a hair
+inconsistent) and the row is dropped like a dependent one.
 """
 
 from __future__ import annotations
@@ -61,7 +64,7 @@ class DropZeros(ReductionMethod):
     def _on_constrained_zonotope(self, Z: ConstrainedZonotope):
         d = CZData.of(Z)
         rows, consistent = _zero_rows_consistent(d.A, d.b)
-        if not consistent:
+        if not consistent and Z.is_empty():
             return EmptySet(Z.dim)
         d = d.keep_rows(rows)
         used = np.any(d.G != 0.0, axis=0) | np.any(d.A != 0.0, axis=0)
@@ -90,7 +93,7 @@ class DropDependentConstraints(ReductionMethod):
             return Z
         d = CZData.of(Z)
         basis = independent_rows(d.A, d.b)
-        if not basis.consistent:
+        if not basis.consistent and Z.is_empty():
             return EmptySet(Z.dim)
         return Z if basis.keep.size == Z.nc else d.keep_rows(basis.keep).to_set()
 

@@ -17,7 +17,10 @@ in the form Z(G, c, A, b, h) again. Two ways to find E:
 Soundness in floating point: the preconditioned rows are P·A and P·b evaluated in floating point, so
 each row is treated as an interval equation whose coefficients carry the rounding bound γ·|P||A|, and
 every interval sum and quotient is rounded outward. Every computed E_j therefore contains the exact
-range, and an empty E_j (lo > hi) proves the set empty (the result is `EmptySet`). Free factors
+range of the data as stored, and an empty E_j (lo > hi) proves those data infeasible. The data carry
+the rounding of the set algebra that built them, though, and a set that is a single point comes out a
+hair infeasible: the result is `EmptySet` only when the emptiness program (`is_empty`, the library's
+tolerance policy) agrees, and otherwise the crossed bounds are kept as a (tiny) interval. Free factors
 (h = ∞) take part exactly: they stay free unless the constraints bound them, in which case they
 become bounded factors of the same set.
 """
@@ -33,6 +36,7 @@ from ..box import Box
 from ..constrained_zonotope import ConstrainedZonotope
 from ..empty import EmptySet
 from ..zonotope import Zonotope
+from ...solvers import SolverError
 from ._base import CZData, ReductionMethod, round_down, round_up
 
 __all__ = ["Rescale", "propagate", "rescale_data"]
@@ -75,15 +79,16 @@ def propagate(A: np.ndarray, b: np.ndarray, h: np.ndarray):
 
     Returns
     -------
-    (lo, hi, Rlo, Rhi) or None
+    (lo, hi, Rlo, Rhi, crossed)
         E = [lo, hi] ⊇ the range of every feasible ξ_j; R = [Rlo, Rhi] ⊇ the range ξ_j can take when
-        its own bound is dropped (Scott §4.2); None when E came out empty, which proves Z empty.
+        its own bound is dropped (Scott §4.2). ``crossed``: some E_j came out empty, which proves the
+        stored data infeasible; the crossed bounds are then returned swapped (see `settle_empty`).
     """
     nc, ng = A.shape
     lo, hi = -h.astype(float), h.astype(float)
     Rlo, Rhi = np.full(ng, -np.inf), np.full(ng, np.inf)
     if nc == 0:
-        return lo, hi, Rlo, Rhi
+        return lo, hi, Rlo, Rhi, False
     P = gauss_jordan(A)
     Ap, bp = P @ A, P @ b
     # fl(P·A) = P·A + E with |E| ≤ γ_nc |P||A| (and alike for b): each row is an interval equation
@@ -93,6 +98,7 @@ def propagate(A: np.ndarray, b: np.ndarray, h: np.ndarray):
     dA = g * (np.abs(P) @ np.abs(A))
     db = g * (np.abs(P) @ np.abs(b))
     # dA = 0 only where every term of the product was zero: that coefficient is exactly 0.
+    empty_here = False
     Alo = np.where(dA == 0.0, Ap, round_down(Ap - dA))
     Ahi = np.where(dA == 0.0, Ap, round_up(Ap + dA))
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
@@ -102,11 +108,17 @@ def propagate(A: np.ndarray, b: np.ndarray, h: np.ndarray):
             qlo = np.maximum(qlo, Rlo[cols])
             qhi = np.minimum(qhi, Rhi[cols])
             Rlo[cols], Rhi[cols] = qlo, qhi
-            lo[cols] = np.maximum(lo[cols], qlo)
-            hi[cols] = np.minimum(hi[cols], qhi)
-            if np.any(lo[cols] > hi[cols]):
-                return None
-    return lo, hi, Rlo, Rhi
+            nlo, nhi = np.maximum(lo[cols], qlo), np.minimum(hi[cols], qhi)
+            crossed = nlo > nhi
+            if crossed.any():
+                # Rigorous for the data as stored, but the data carry the rounding of the set algebra
+                # that built them: a set that is a single point (extreme noise realizations) comes
+                # out a hair empty. The caller decides (by the LP's emptiness policy); meanwhile the
+                # crossed bounds are swapped, which keeps every estimate between them.
+                empty_here = True
+                nlo[crossed], nhi[crossed] = nhi[crossed], nlo[crossed]
+            lo[cols], hi[cols] = nlo, nhi
+    return lo, hi, Rlo, Rhi, empty_here
 
 
 def _row(alo, ahi, xlo, xhi, beta, dbeta):
@@ -176,7 +188,7 @@ class Rescale(ReductionMethod):
     Notes
     -----
     The set is unchanged; a factor whose propagated range is unbounded keeps its bound (a free factor
-    stays free). An empty propagated range proves the set empty and gives `EmptySet`.
+    stays free). An empty propagated range gives `EmptySet` when `is_empty` agrees (see the module notes).
 
     Examples
     --------
@@ -204,23 +216,44 @@ class Rescale(ReductionMethod):
         if Z.nc == 0:
             return Z
         d = CZData.of(Z)
-        bounds = propagate(d.A, d.b, d.h) if self.method == "iter" else _exact_bounds(Z)
-        if bounds is None:
+        bounds = propagate(d.A, d.b, d.h) if self.method == "iter" else _exact_bounds(Z, d)
+        if bounds[4] and Z.is_empty():
             return EmptySet(Z.dim)
         return rescale_data(d, bounds[0], bounds[1]).to_set()
 
 
-def _exact_bounds(Z: ConstrainedZonotope):
-    """The factor box by certified LPs: the interval hull of Z(I, 0, A, b, h), rounded outward."""
+def _exact_bounds(Z: ConstrainedZonotope, d: CZData):
+    """The factor box by certified LPs: the interval hull of Z(I, 0, A, b, h), rounded outward.
+
+    A factor whose LP the solver cannot settle (`SolverError`) keeps its interval-propagation bound,
+    which is valid (and rigorous) but may be looser.
+    """
     factors = ConstrainedZonotope._trusted(np.eye(Z.ng), np.zeros(Z.ng), Z.A, Z.b, Z.h)
-    hull = factors.interval_hull(certified=True)
-    if isinstance(hull, EmptySet):
-        return None
+    eye = np.eye(Z.ng)
+    try:
+        values = factors.support_many(np.vstack([eye, -eye]), certified=True)
+    except SolverError:
+        values = _one_by_one(factors, np.vstack([eye, -eye]))
+    iter_lo, iter_hi, _, _, crossed = propagate(d.A, d.b, d.h)
+    if np.isneginf(values).any():
+        return iter_lo, iter_hi, None, None, True
+    hi, lo = values[:Z.ng], -values[Z.ng:]
     # The weak-duality bound is itself evaluated in floating point: widen by its rounding bound.
     scale = 1.0 + np.abs(Z.b).max(initial=0.0) + np.max(Z.h[np.isfinite(Z.h)], initial=0.0)
     margin = 8.0 * tol.gamma(Z.ng + Z.nc + 2) * scale
-    lo = np.maximum(-Z.h, round_down(hull.lo - margin))
-    hi = np.minimum(Z.h, round_up(hull.hi + margin))
-    if np.any(lo > hi):
-        return None
-    return lo, hi, np.full(Z.ng, -np.inf), np.full(Z.ng, np.inf)
+    with np.errstate(invalid="ignore"):
+        lo = np.where(np.isnan(lo), iter_lo, np.maximum(iter_lo, round_down(lo - margin)))
+        hi = np.where(np.isnan(hi), iter_hi, np.minimum(iter_hi, round_up(hi + margin)))
+    crossed = crossed or bool(np.any(lo > hi))
+    return np.minimum(lo, hi), np.maximum(lo, hi), None, None, crossed
+
+
+def _one_by_one(S: ConstrainedZonotope, D: np.ndarray) -> np.ndarray:
+    """Certified support values one direction at a time; NaN where the solver gives up."""
+    out = np.full(D.shape[0], np.nan)
+    for i, d in enumerate(D):
+        try:
+            out[i] = S.support_many(d[None, :], certified=True)[0]
+        except SolverError:
+            pass
+    return out
