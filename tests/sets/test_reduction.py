@@ -171,13 +171,17 @@ def test_every_outer_method_contains_the_set_in_200_directions(data):
         assert np.all(hr >= hs - 1e-7 * scale), (_label(method), (hs - hr).max() / scale)
 
 
+@pytest.mark.parametrize("kind", ["cz", "zonotope"])
 @pytest.mark.parametrize("seed", range(5))
-def test_outer_methods_contain_the_vertices_of_2d_czs(seed):
+def test_outer_methods_contain_the_vertices_of_2d_sets(seed, kind):
     rng = np.random.default_rng(seed)
     ng, nc = 7, 3
     A = rng.standard_normal((nc, ng))
-    S = ss.ConstrainedZonotope(rng.standard_normal((2, ng)), rng.uniform(-1, 1, 2), A=A,
-                               b=A @ rng.uniform(-0.7, 0.7, ng))
+    if kind == "cz":
+        S = ss.ConstrainedZonotope(rng.standard_normal((2, ng)), rng.uniform(-1, 1, 2), A=A,
+                                   b=A @ rng.uniform(-0.7, 0.7, ng))
+    else:
+        S = ss.Zonotope(rng.standard_normal((2, ng)), rng.uniform(-1, 1, 2))
     V = S.vertices_2d()
     angles = np.linspace(0, 2 * np.pi, 200, endpoint=False) + 0.05
     D = np.column_stack([np.cos(angles), np.sin(angles)])

@@ -6,8 +6,14 @@ Outer approximations (the result contains the set, in floating point too): `Elim
 (Scott §4.2), `Girard`, `Combastel` (for CZs through the lifted zonotope, Scott §4.3), `IntervalHull`.
 
 A method that has no implementation for a set's type raises `NotImplementedError` naming both; no
-method falls back to another. The empty set is returned unchanged; an exact method that proves a set
-empty returns `EmptySet`.
+method falls back to another. The empty set is returned unchanged; a method that finds a set empty
+returns `EmptySet`. Free factors (h = ∞) are handled exactly or refused with a `ValueError`; no finite
+bound is ever invented for them.
+
+Floating point: every computed *bound* (propagated factor ranges, box radii, interval hulls) is rounded
+outward with a rigorous rounding-error bound, so outer approximations stay outer. The affine
+re-parametrizations (re-centring in rescaling, the substitution (27)/(29) of an eliminated factor,
+merging) are exact in exact arithmetic and move the set by a few units of roundoff of its data.
 
 `CORA_GIRARD` and `CORA_COMBASTEL` are the pipelines of CORA's reduced constrained-zonotope observer,
 the baselines of the stability paper's Table 1: ``rescale(·, 'iter')`` → ``reduceConstraints(·, 1)`` →

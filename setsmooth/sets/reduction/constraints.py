@@ -36,8 +36,8 @@ __all__ = ["EliminateConstraints", "eliminate_factor"]
 def eliminate_factor(d: CZData, j: int) -> CZData:
     """Scott (27)/(29): drop the bound of factor j and eliminate it through a row where it appears.
 
-    The row is the one where |a_ij| is largest relative to the row's size (any row is exact in exact
-    arithmetic; this one is the best conditioned pivot).
+    The row is the one where |a_ij| is largest relative to the row's size: any row gives the same set
+    in exact arithmetic (CORA takes the first), this one is the best-conditioned pivot.
     """
     col = d.A[:, j]
     with np.errstate(invalid="ignore", divide="ignore"):

@@ -9,8 +9,10 @@ in the form Z(G, c, A, b, h) again. Two ways to find E:
 
 * ``Rescale("iter")`` (CORA's 'iter'): interval propagation through Aξ = b. [A b] is first brought to
   reduced row-echelon form by Gauss–Jordan elimination with full pivoting and its rows scaled by their
-  1-norm, then one sweep E_j ← E_j ∩ (b_i − Σ_{l≠j} A_il E_l)/A_ij over the rows i (each row updates
-  all its factors at once from the boxes left by the previous rows). The propagated range R_j (before
+  1-norm, then one sweep E_j ← E_j ∩ (b_i − Σ_{l≠j} A_il E_l)/A_ij over the rows i. Each row updates
+  all its factors at once from the boxes left by the previous rows (CORA also updates factor by
+  factor within a row; after the Gauss–Jordan step a row's pivot factor is the one it tightens most,
+  and the row-at-once update is one vectorized operation). The propagated range R_j (before
   the intersection with E_j) is what constraint elimination (§4.2) uses.
 * ``Rescale("exact")``: the tightest box, by 2·ng certified LPs on the CZ fast path.
 
