@@ -19,19 +19,27 @@ reduced ones. One system per n (the paper averages 100); times are this machine'
 
     python benchmarks/bench_reduction.py            # n = 10, 20, 30: a few minutes
     python benchmarks/bench_reduction.py --quick    # n = 10 only, 31 steps
+
+BLAS runs single-threaded here (OPENBLAS_NUM_THREADS=1 unless set): the filters' dense algebra is
+small (≤ 120×120), and on a shared 2-core machine OpenBLAS's threads made a 120×120×90 product take
+9 ms instead of 0.05 ms.
 """
 
 from __future__ import annotations
 
-import argparse
-import time
+import os
 
-import control
-import numpy as np
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # before NumPy loads OpenBLAS
 
-import setsmooth as ss
-from setsmooth.filters.classical import predict, update
-from setsmooth.sets.reduction import apply_methods
+import argparse  # noqa: E402
+import time  # noqa: E402
+
+import control  # noqa: E402
+import numpy as np  # noqa: E402
+
+import setsmooth as ss  # noqa: E402
+from setsmooth.filters.classical import predict, update  # noqa: E402
+from setsmooth.sets.reduction import apply_methods  # noqa: E402
 
 #: Steps of the exact filter per n: its interval hulls are LPs over n + 2nk factors.
 EXACT_STEPS = {10: 31, 20: 21, 30: 11}

@@ -44,8 +44,8 @@ class DropZeros(ReductionMethod):
     """Drop zero generators (with zero constraint columns) and zero constraint rows. Exact.
 
     A factor whose generator and constraint column are both zero does not move the set, whatever its
-    bound (free factors included). A zero row 0·ξ = b_i is dropped when b_i = 0 (up to rounding) and
-    proves the set empty otherwise.
+    bound (free factors included). A zero row 0·ξ = b_i is dropped when b_i = 0 (up to rounding);
+    otherwise the result is `EmptySet` when `is_empty` agrees (see the module notes).
 
     Examples
     --------
@@ -80,7 +80,7 @@ class DropDependentConstraints(ReductionMethod):
     """Keep a maximal linearly independent set of constraint rows (`linalg.independent_rows`). Exact.
 
     The rank decision is relative (``RANK_TOL``); a dropped row whose right-hand side contradicts the
-    kept ones proves the set empty, and the result is `EmptySet`.
+    kept ones gives `EmptySet` when `is_empty` agrees (see the module notes).
     """
 
     exact = True
