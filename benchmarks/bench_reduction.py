@@ -63,13 +63,12 @@ def observable_system(n: int, seed: int) -> ss.LinearSystem:
 
 def run_filter(system, X0, ys, methods):
     """The classical filter's loop (as in `classical_filter`), each step timed; hulls outside."""
-    minus_V = -system.V
     times, radii = [], []
     post = None
     for k, y in enumerate(ys):
         start = time.perf_counter()
         prior = X0 if k == 0 else predict(system, k - 1, post)
-        post = update(system, k, prior, y, minus_V)
+        post = update(system, k, prior, y)
         if methods is not None:
             post = apply_methods(post, methods)
         times.append(time.perf_counter() - start)
