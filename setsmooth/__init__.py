@@ -3,6 +3,9 @@
 from .sets import (Box, CartesianProduct, ConstrainedZonotope, ConvexSet, Ellipsoid, EmptySet,
                    GeneralizedIntersection, HPolytope, Intersection, LinearMap, MinkowskiSum, Reals,
                    Zonotope)
+from .sets import (CORA_COMBASTEL, CORA_GIRARD, Combastel, DropDependentConstraints, DropZeros,
+                   EliminateConstraints, Girard, IntervalHull, MergeParallelGenerators, ReductionMethod,
+                   Rescale, reduce)
 from . import montecarlo, paper_examples
 from .filters import KalmanResult, classical_filter, interval_filter, kalman_filter, rts_smoother
 from .intervals import IntervalEstimates
@@ -20,4 +23,7 @@ __all__ = [
     "classical_filter", "optimal_smoother", "trajectory_set", "filtering_map", "interval_filter",
     "interval_smoother",
     "IntervalEstimates", "kalman_filter", "rts_smoother", "KalmanResult", "montecarlo", "paper_examples",
+    "reduce", "ReductionMethod", "DropZeros", "DropDependentConstraints", "MergeParallelGenerators",
+    "Rescale", "EliminateConstraints", "Girard", "Combastel", "IntervalHull", "CORA_GIRARD",
+    "CORA_COMBASTEL",
 ]

@@ -18,10 +18,17 @@ from .._validation import as_measurements, as_vector
 from ..sets.algebra import generalized_intersection, linear_map, minkowski_sum, translate
 from ..sets.base import ConvexSet
 from ..sets.empty import EmptySet
+from ..sets.reduction import apply_methods, as_methods
 
 
-def classical_filter(system, X0: ConvexSet, ys: Any, *, detect_empty: bool = True) -> list[ConvexSet]:
+def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
+                     detect_empty: bool = True) -> list[ConvexSet]:
     """Posterior ranges ⟦x_k | y_{0:k}⟧ for k = 0..T (stability paper Algorithm 1).
+
+    With ``reduce`` it is a bounded filter: the reduction is applied to every posterior before the next
+    prediction (CORA's reduced constrained-zonotope observer is Algorithm 1 plus this one line, e.g.
+    ``reduce=ss.CORA_GIRARD``). The estimates are then **outer bounds** of the exact posteriors,
+    ⟦x_k | y_{0:k}⟧ ⊆ posteriors[k], not the posteriors themselves; their complexity stays bounded.
 
     Parameters
     ----------
@@ -30,6 +37,10 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, detect_empty: bool = Tru
         Initial prior range ⟦x_0⟧.
     ys : array_like, shape (T+1, m)
         Measurements y_0..y_T.
+    reduce : ReductionMethod or sequence of ReductionMethod, optional
+        Order reduction applied to every posterior (see `setsmooth.reduce`), e.g. ``ss.CORA_GIRARD``
+        or ``(ss.Rescale('iter'), ss.EliminateConstraints(1), ss.Girard(1))``. None (default): the
+        exact filter.
     detect_empty : bool
         Check each posterior for emptiness (one feasibility program per step) and return `EmptySet`
         from the first empty one on. With False the sets are returned as computed; an empty one is
@@ -38,17 +49,21 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, detect_empty: bool = Tru
     Returns
     -------
     list of ConvexSet
-        ``posteriors[k]`` = ⟦x_k | y_{0:k}⟧. An empty posterior means the measurements are
-        inconsistent with the model (ill-posedness is data, not an exception).
+        ``posteriors[k]`` = ⟦x_k | y_{0:k}⟧, or a superset of it with ``reduce``. An empty posterior
+        means the measurements are inconsistent with the model (ill-posedness is data, not an
+        exception).
     """
     ys = as_measurements(ys, system.m)
     _check_state_set(X0, "X0", system.n)
+    methods = None if reduce is None else as_methods(reduce, "reduce")
     posteriors: list[ConvexSet] = []
     prior = X0
     for k, y in enumerate(ys):
         if k > 0:
             prior = _predict(system, k - 1, posteriors[-1])
         posterior = _update(system, k, prior, y)
+        if methods is not None:
+            posterior = apply_methods(posterior, methods)
         if detect_empty and not isinstance(posterior, EmptySet) and posterior.is_empty():
             posterior = EmptySet(system.n)
         posteriors.append(posterior)
