@@ -314,3 +314,36 @@ def polish(E: np.ndarray, f: np.ndarray, bounds: np.ndarray, eta: np.ndarray) ->
 def residual(E: np.ndarray, f: np.ndarray, eta: np.ndarray) -> float:
     """∞-norm of Eη − f (rows are unit-∞-norm, so this is relative to the data)."""
     return float(np.abs(E @ eta - f).max(initial=0.0))
+
+
+def cz_support(f: FactorForm, d) -> tuple[float, np.ndarray | None]:
+    """max dᵀx over {Gξ + c : Aξ = b, |ξ| ≤ h} by linprog on the unit-scaled LP, and a polished argmax.
+
+    Rows are divided by their ∞-norm and bounded factors substituted ξ = hη, as in the trajectory
+    oracle, so the answer does not depend on how the set is scaled. ``-inf`` for an empty set,
+    ``inf`` (and no point) along an unbounded direction.
+    """
+    d = np.asarray(d, dtype=float)
+    finite = np.isfinite(f.h)
+    colscale = np.where(finite & (f.h > 0), f.h, 1.0)
+    bounds = np.column_stack([np.where(finite, np.where(f.h > 0, -1.0, 0.0), -np.inf),
+                              np.where(finite, np.where(f.h > 0, 1.0, 0.0), np.inf)])
+    E = f.A * colscale
+    norms = np.abs(E).max(axis=1) if E.size else np.zeros(0)
+    keep = norms > 0
+    if np.any(np.abs(f.b[~keep]) > 0):
+        return -np.inf, None
+    E, rhs = E[keep] / norms[keep, None], f.b[keep] / norms[keep]
+    obj = (d @ f.G) * colscale
+    scale = np.abs(obj).max(initial=0.0) or 1.0
+    res = linprog(-obj / scale, A_eq=E if E.size else None, b_eq=rhs if E.size else None,
+                  bounds=bounds, method="highs", options=HIGHS_OPTIONS)
+    if res.status == 2:
+        return -np.inf, None
+    if res.status == 3:
+        return np.inf, None
+    if res.status != 0:
+        raise OracleError(f"linprog status {res.status} ({res.message})")
+    eta = polish(E, rhs, bounds, res.x) if E.size else res.x
+    point = f.G @ (eta * colscale) + f.c
+    return float(d @ f.c + obj @ res.x), point
