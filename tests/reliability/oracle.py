@@ -277,12 +277,15 @@ class _WarmLP:
     def maximize(self, c: np.ndarray, context: str) -> np.ndarray | None:
         """An optimal η, or None when unbounded; raises OracleError otherwise."""
         self.h.changeColsCost(self.n, np.arange(self.n, dtype=np.int32), c)
-        self.h.run()
-        status = self.h.getModelStatus()
-        if status == highspy.HighsModelStatus.kOptimal:
-            return np.array(self.h.getSolution().col_value)
-        if status == highspy.HighsModelStatus.kUnbounded:
-            return None
+        for attempt in range(2):
+            self.h.run()
+            status = self.h.getModelStatus()
+            if status == highspy.HighsModelStatus.kOptimal:
+                return np.array(self.h.getSolution().col_value)
+            if status == highspy.HighsModelStatus.kUnbounded:
+                return None
+            # A warm start can stall ('Unknown'); the second attempt starts from scratch.
+            self.h.clearSolver()
         raise OracleError(f"HiGHS status {self.h.modelStatusToString(status)} ({context})")
 
 
