@@ -15,6 +15,7 @@ import os
 import signal
 import subprocess
 import sys
+import tempfile
 import threading
 from dataclasses import dataclass, field
 from typing import Callable
@@ -94,6 +95,7 @@ def threaded_support(name: str, build: Callable[[], ss.ConvexSet], path: str, wo
 _PROBE = r"""
 import os, sys, threading
 import setsmooth as ss
+out = open(sys.argv[1], "w", buffering=1)
 outcome = []
 def attempt():
     try:
@@ -106,9 +108,9 @@ for i in range({attempts}):
     t.start()
     t.join({timeout})
     if t.is_alive():
-        print("hung", flush=True)
+        out.write("hung\n")
         os._exit(0)
-    print(outcome[-1], flush=True)
+    out.write(outcome[-1] + "\n")
 os._exit(0)
 """
 
@@ -119,16 +121,21 @@ def montecarlo_lambda_probe(attempts: int = 5, timeout: float = 20.0) -> list[st
     env = dict(os.environ)
     root = os.path.dirname(os.path.dirname(os.path.abspath(ss.__file__)))
     env["PYTHONPATH"] = os.pathsep.join([root, env.get("PYTHONPATH", "")])
-    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True, start_new_session=True, env=env)
-    try:
-        stdout, _ = proc.communicate(timeout=attempts * timeout + 60)
-    except subprocess.TimeoutExpired:
-        stdout = "hung\n"
-    finally:
+    with tempfile.TemporaryDirectory() as tmp:
+        report = os.path.join(tmp, "outcomes.txt")
+        # Results go to a file, not a pipe: stuck pool workers would hold a pipe open.
+        proc = subprocess.Popen([sys.executable, "-c", code, report], stdout=subprocess.DEVNULL,
+                                stderr=subprocess.DEVNULL, start_new_session=True, env=env)
         try:
-            os.killpg(proc.pid, signal.SIGKILL)  # the probe's own group: stuck pool workers included
-        except ProcessLookupError:
+            proc.wait(timeout=attempts * timeout + 60)
+        except subprocess.TimeoutExpired:
             pass
-        proc.wait()
-    return [line for line in stdout.splitlines() if line]
+        finally:
+            try:
+                os.killpg(proc.pid, signal.SIGKILL)  # the probe's own group, stuck pool workers included
+            except ProcessLookupError:
+                pass
+            proc.wait()
+        with open(report) as fh:
+            lines = [line.strip() for line in fh if line.strip()]
+    return lines if len(lines) == attempts or (lines and lines[-1] == "hung") else lines + ["hung"]

@@ -229,3 +229,19 @@ def make_cases(n_systems: int, seed: int, regimes=REGIMES, indices=None, **kwarg
         base = base_case(seed, i, **kwargs)
         cases.extend(in_regime(base, r) for r in regimes)
     return cases
+
+
+def triangle_case(seed: int, T: int = 100) -> Case:
+    """Issue 8's long-horizon CZ case: smoothing example (31) with B = I and the triangle CZ as W.
+
+    W = Z([[0.4, −0.3, 0.1], [0.1, 0.2, −0.35]], 0, [[1, 1, 1]], [1]) (examples/new_set_representation.py),
+    V = [−1, 1]², X0 = [−5, 5]², simulated by `setsmooth.simulate` with ``default_rng(seed)``.
+    """
+    s1, c1 = np.sin(1.0), np.cos(1.0)
+    W = ss.ConstrainedZonotope([[0.4, -0.3, 0.1], [0.1, 0.2, -0.35]], [0.0, 0.0], [[1.0, 1.0, 1.0]], [1.0])
+    system = ss.LinearSystem([[s1, c1], [-c1, s1]], np.eye(2), [[0.5, 0.5], [1.0, 0.3]], np.eye(2),
+                             W=W, V=ss.Box([-1.0, -1.0], [1.0, 1.0]))
+    X0 = ss.Box([-5.0, -5.0], [5.0, 5.0])
+    xs, ys = ss.simulate(system, X0, T, np.random.default_rng(seed))
+    return Case(f"triangle-W-seed{seed}-T{T}", seed, -1, "example31_triangle_W", "cz", "scale1", system,
+                X0, xs, ys, 1.0, np.zeros(2))

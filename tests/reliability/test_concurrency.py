@@ -53,5 +53,5 @@ def test_linear_system_with_an_input_sequence_and_its_estimates_pickle():
 
 
 def test_montecarlo_run_with_a_lambda_trial_raises_rather_than_hangs():
-    outcomes = montecarlo_lambda_probe(attempts=3, timeout=20.0)
+    outcomes = montecarlo_lambda_probe(attempts=3, timeout=15.0)
     assert outcomes and all(o.startswith("raised") for o in outcomes), outcomes
