@@ -18,6 +18,7 @@ import numpy as np
 from .. import tolerances as tol
 from .._validation import as_directions, as_matrix, as_vector
 from ..solvers import GenericProgram
+from ..solvers.instances import cached_instance
 
 if TYPE_CHECKING:  # pragma: no cover
     from .box import Box
@@ -100,9 +101,11 @@ class ConvexSet(ABC):
                              " it does not flatten to a constrained zonotope")
         return self._generic.support(D)
 
-    @cached_property
+    @property
     def _generic(self) -> GenericProgram:
-        return GenericProgram(self)
+        """This thread's compiled CVXPY program of the set (`solvers.instances`): never stored on
+        the set, so that sets stay picklable and threads never share a solver."""
+        return cached_instance(self, "generic", lambda: GenericProgram(self))
 
     @cached_property
     def _flat_cz(self) -> "ConstrainedZonotope | None":
@@ -339,6 +342,22 @@ class ConvexSet(ABC):
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(dim={self.dim})"
+
+    # -- pickling (process pools, Dask) ----------------------------------------------------------------
+    #: Caches derived from the representation (cached properties): rebuilt on demand after
+    #: unpickling rather than shipped. Solver instances are never on a set at all (they live in the
+    #: per-thread cache of `solvers.instances`), so no query can make a set unpicklable.
+    _DERIVED = ("_flat_cz", "_program")
+
+    def __getstate__(self) -> dict:
+        return {name: value for name, value in self.__dict__.items() if name not in self._DERIVED}
+
+    def __setstate__(self, state: dict) -> None:
+        # Pickle restores arrays writeable; a set's arrays stay read-only (sets are immutable).
+        for value in state.values():
+            if isinstance(value, np.ndarray):
+                value.flags.writeable = False
+        self.__dict__.update(state)
 
 
 def _same_dim(a: ConvexSet, b: ConvexSet, what: str) -> None:
