@@ -182,9 +182,13 @@ class ConicForm:
         A retry after an answer failed verification: Ruiz balances the data, not the solution, and
         a factor bounded by 1e-8 next to one of size 1e4 stays below the solver's absolute accuracy.
         """
-        size = np.abs(z)
-        c = np.maximum(size, _MAGNITUDE_RANGE * size.max(initial=0.0))
-        c = np.where(c > 0, c, 1.0)
+        size = np.abs(z / self.col_scale)  # in the current scaled variables
+        largest = size.max(initial=0.0)
+        if largest == 0:
+            return
+        # Relative sizes in [_MAGNITUDE_RANGE, 1]: the largest variables keep their scale, the small
+        # ones are scaled up to it.
+        c = self.col_scale * np.maximum(size / largest, _MAGNITUDE_RANGE)
         M = abs(self.A) @ sp.diags(c)
         rows = np.maximum(np.asarray(M.max(axis=1).todense()).ravel(), np.abs(self.b))
         starts = self._groups()
@@ -352,8 +356,9 @@ class ConicForm:
         # The floor is Clarabel's own accuracy on the equilibrated data, where the solution's
         # entries have comparable sizes: a row whose terms all vanish holds to rounding, not 0.
         row_size = np.asarray(absA.max(axis=1).todense()).ravel()
-        allowed = check * (absA @ np.abs(z) + np.abs(b)) \
-            + tol.SOLVER_TOL * row_size * np.abs(z).max(initial=0.0)
+        # (The equilibrated data have unit size, so a solution at the origin is measured against 1.)
+        z_unit = max(np.abs(z).max(initial=0.0), 1.0)
+        allowed = check * (absA @ np.abs(z) + np.abs(b)) + tol.SOLVER_TOL * row_size * z_unit
         bad = []
         lin = slice(n_zero, n_linear)
         if np.any(np.abs(r[:n_zero]) > allowed[:n_zero]) or np.any(-r[lin] > allowed[lin]):
@@ -375,9 +380,9 @@ class ConicForm:
         dual_allowed = dual_allowed + check * (np.zeros_like(z) if P is None else abs(P) @ np.abs(z))
         if np.any(np.abs(A.T @ y + q + Pz) > dual_allowed):
             bad.append("dual feasibility")
-        z_size, y_size = np.abs(z).max(initial=0.0), np.abs(y).max(initial=0.0)
+        y_size = np.abs(y).max(initial=0.0)
         gap_allowed = check * (np.abs(q) @ np.abs(z) + np.abs(b) @ np.abs(y) + np.abs(z) @ np.abs(Pz)) \
-            + tol.SOLVER_TOL * (np.abs(q).max(initial=0.0) * z_size + np.abs(b).max(initial=0.0) * y_size)
+            + tol.SOLVER_TOL * (np.abs(q).max(initial=0.0) * z_unit + np.abs(b).max(initial=0.0) * y_size)
         if abs(q @ z + z @ Pz + b @ y) > gap_allowed:
             bad.append("duality gap")
         return bad

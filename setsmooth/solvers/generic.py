@@ -94,8 +94,12 @@ class GenericProgram:
                 # As for the fast path, an unbounded report does not prove feasibility.
                 if form.is_empty():
                     return empty
-                values[i] = np.inf
-                continue
+                if self._improves_along_a_ray(q, undecided=True):
+                    values[i] = np.inf
+                    continue
+                # No recession direction gains more than REDUCED_COST_TOL: the direction is zero to
+                # that tolerance (the solver saw it normalized), and any member attains it.
+                sol = form.solve(np.zeros_like(q))
             points[i] = -Q.T @ sol.z
             values[i] = float(d @ points[i])
         return values, points
@@ -113,10 +117,12 @@ class GenericProgram:
         form, _ = self._compiled()
         if not form.plain:
             return None
-        # Each objective normalized to unit size: the gain is then accurate to the solver's absolute
-        # tolerance, and `_positive` compares it with REDUCED_COST_TOL.
+        # Each objective normalized to size at most 1: the gain is then accurate to the solver's
+        # absolute tolerance, and `_positive` compares it with REDUCED_COST_TOL, relative to the
+        # objective's size and absolute below 1 (a direction of size 1e-16 counts as zero, as on
+        # the fast path).
         size = np.abs(C).max(axis=1, keepdims=True)
-        C = C / np.where(size > 0, size, 1.0)
+        C = C / np.maximum(size, 1.0)
         k, nz = C.shape
         A = form.As
         eye = sp.identity(k, format="csc")
@@ -132,8 +138,8 @@ class GenericProgram:
 
     @staticmethod
     def _positive(gains: np.ndarray, C: np.ndarray) -> np.ndarray:
-        # `_recession_gains` normalizes every objective to unit size.
-        return (gains > tol.REDUCED_COST_TOL) & np.any(C != 0, axis=1)
+        # `_recession_gains` normalizes every objective to size at most 1.
+        return gains > tol.REDUCED_COST_TOL
 
     def _has_recession(self) -> bool:
         """Whether the constraints admit a recession direction moving x (cached; True if undecided)."""
@@ -147,14 +153,15 @@ class GenericProgram:
                 self._recession = gains is None or bool(self._positive(gains, C).any())
         return self._recession
 
-    def _improves_along_a_ray(self, q: np.ndarray) -> bool:
-        """Whether the objective q has a positive recession gain (False if undecided)."""
+    def _improves_along_a_ray(self, q: np.ndarray, undecided: bool = False) -> bool:
+        """Whether the objective q has a positive recession gain (``undecided`` when the gain
+        program is not solved)."""
         form, _ = self._compiled()
         if form.m == 0:
             return bool(np.any(q))
         c = (form.col_scale * q)[None, :]
         gains = self._recession_gains(c)
-        return gains is not None and bool(self._positive(gains, c)[0])
+        return undecided if gains is None else bool(self._positive(gains, c)[0])
 
     def is_empty(self) -> bool:
         """Feasibility of the set's constraints, by the elastic program of `solvers.conic`."""
