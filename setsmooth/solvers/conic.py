@@ -10,11 +10,13 @@ and `ConicForm` solves it directly rather than through ``Problem.solve``, for fo
   root of its largest entry, repeated) without bounds on the factors. Clarabel's own equilibration
   stops at 1e±4, so a constraint row written 1e12 times smaller than another is satisfied "to 1e-9"
   by any point and silently dropped: the same set represented two ways gave different answers.
-* **Verification.** An answer is returned only if, in the equilibrated data (where every row and
-  column has comparable weight), the primal point satisfies every row to ``SOLVER_CHECK_TOL``
-  relative to that row's size times the solution's size plus its right-hand side, the multipliers
-  satisfy every dual row likewise, and the duality gap closes to the same accuracy; else
-  `SolverError('UnverifiedSolution')`. Clarabel's own tolerances are global norms.
+* **Verification.** An answer is returned only if, in the equilibrated data, the primal point
+  satisfies every row to ``SOLVER_CHECK_TOL`` relative to that row's own terms Σⱼ|A_ij z_j| + |b_i|,
+  the multipliers satisfy every dual row likewise, and the duality gap closes likewise (each with a
+  floor at the solver's accuracy on the unit-size data, for terms that vanish at the solution).
+  Clarabel's own tolerances are global norms, under which a row of 1e-8-sized terms may be violated
+  by 100 %. An answer failing the check is solved once more with the variables rescaled to the
+  sizes of its entries; failing again, `SolverError('UnverifiedSolution')`.
 * **Status.** A failure carries Clarabel's own status name and the program kind (CVXPY maps
   NumericalError, InsufficientProgress and others to one 'solver_error').
 * **Nearly empty sets.** Emptiness is decided by the elastic program
@@ -194,7 +196,6 @@ class ConicForm:
         starts = self._groups()
         block = np.repeat(np.maximum.reduceat(rows, starts), np.diff(np.append(starts, self.m)))
         self._use_scaling(1.0 / np.where(block > 0, block, 1.0), c, 1.0)
-        self._elastic = None
 
     # -- solving -------------------------------------------------------------------------------------
     def _unit(self) -> np.ndarray:
@@ -301,6 +302,9 @@ class ConicForm:
         try:
             return self._solve(q, relax)
         except _Unverified as failed:
+            # The retry's scaling serves this objective only: kept, it would make later answers
+            # (and the recession tests, posed in the scaled variables) depend on the query history.
+            saved = self.row_scale, self.As, self.bs, self.col_scale
             self._rescale_to(failed.z)
         try:
             return self._solve(q, relax)
@@ -308,6 +312,8 @@ class ConicForm:
             raise SolverError("UnverifiedSolution", f"{self.context}: the solution failed the "
                               f"check of {failed.what}, also after rescaling to it",
                               kind=self.kind) from None
+        finally:
+            self.row_scale, self.As, self.bs, self.col_scale = saved
 
     def _solve(self, q: np.ndarray, relax: float) -> ConicSolution:
         qs = self.col_scale * q
