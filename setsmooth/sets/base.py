@@ -243,7 +243,7 @@ class ConvexSet(ABC):
         cz, p = self._flat_cz, fast_norm(norm)
         if cz is None or p is None:
             return self._generic.closest_point(reference, norm)
-        return closest_point(cz.G, cz.c, cz.factors, reference, p)
+        return closest_point(cz.G, cz.c, cz.A, cz.b, cz.h, reference, p)
 
     def _chebyshev_center(self) -> np.ndarray:
         raise NotImplementedError(

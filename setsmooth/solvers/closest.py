@@ -2,7 +2,7 @@
 
 The LSU paper's Method 2 projects a reference point onto the current CZ at every step. On the fast
 path that is one program over the factor set {ξ : Aξ = b, |ξ| ≤ h} of Z(G, c, A, b, h), built from
-the CZ's matrices (``FactorConstraints.block(1)``), with e = Gξ + c − r the error to the reference r:
+the CZ's matrices, with e = Gξ + c − r the error to the reference r:
 
 * ∞-norm (LP):  minimize t        subject to  −t ≤ Gξ + c − r ≤ t
 * 1-norm (LP):  minimize Σᵢ uᵢ    subject to  −u ≤ Gξ + c − r ≤ u
@@ -24,7 +24,6 @@ import scipy.sparse as sp
 
 from .clarabel_lp import SolverError
 from .conic import ConicForm
-from .factor_set import FactorConstraints
 
 __all__ = ["FAST_NORMS", "closest_point"]
 
@@ -47,7 +46,7 @@ def fast_norm(norm) -> float | None:
     return value if value in FAST_NORMS else None
 
 
-def closest_point(G, c: np.ndarray, factors: FactorConstraints, reference: np.ndarray,
+def closest_point(G, c: np.ndarray, A, b: np.ndarray, h: np.ndarray, reference: np.ndarray,
                   norm: float) -> np.ndarray | None:
     """The point of Z(G, c, A, b, h) closest to ``reference`` in the 1-, 2- or ∞-norm.
 
@@ -55,8 +54,10 @@ def closest_point(G, c: np.ndarray, factors: FactorConstraints, reference: np.nd
     ----------
     G : ndarray or sparse matrix, shape (n, ng)
     c : ndarray, shape (n,)
-    factors : FactorConstraints
-        The CZ's factor set {ξ : Aξ = b, |ξ| ≤ h}. Arguments are trusted (validated by the caller).
+    A : ndarray or sparse matrix, shape (nc, ng)
+    b : ndarray, shape (nc,)
+    h : ndarray, shape (ng,)
+        Factor bounds in [0, ∞]. Arguments are trusted (validated by the caller).
     reference : ndarray, shape (n,)
     norm : {1, 2, inf}
 
@@ -73,10 +74,14 @@ def closest_point(G, c: np.ndarray, factors: FactorConstraints, reference: np.nd
     """
     G = sp.csc_matrix(G)
     n, ng = G.shape
-    M, rhs = factors.block(1)
-    nc, nb = factors.nc, M.shape[0] - factors.nc  # equality rows, then the bound rows
+    nc = A.shape[0]
+    finite = np.flatnonzero(np.isfinite(h))
+    E = sp.csc_matrix((np.ones(finite.size), (np.arange(finite.size), finite)),
+                      shape=(finite.size, ng))
+    Aeq, bounds = sp.csc_matrix(A), sp.vstack([E, -E], format="csc")  # ±ξ_j ≤ h_j, h_j finite
+    rhs = np.concatenate([b, h[finite], h[finite]])
+    nb = bounds.shape[0]
     r = np.asarray(reference, dtype=float) - c
-    Aeq, bounds = M[:nc], M[nc:]
     P = None
     if norm == 2:  # variables (ξ, e): Gξ − e = r, minimize ½‖e‖²
         A = sp.vstack([sp.hstack([Aeq, sp.csc_matrix((nc, n))]),
