@@ -78,6 +78,17 @@ def test_solver_error_message_names_the_status_and_the_context():
     assert "'NumericalError'" in str(err) and "computing something" in str(err)
 
 
+def test_solver_error_carries_the_program_kind_and_survives_pickling():
+    import pickle
+
+    err = ss.SolverError("InsufficientProgress", "deciding emptiness", kind="emptiness")
+    assert err.kind == "emptiness" and "emptiness program" in str(err)
+    again = pickle.loads(pickle.dumps(err))
+    assert (again.status, again.context, again.kind) == ("InsufficientProgress",
+                                                         "deciding emptiness", "emptiness")
+    assert ss.SolverError("MaxIterations").kind is None  # the positional signature still works
+
+
 # -- solve_lp --------------------------------------------------------------------------------------
 
 def test_solve_lp_reports_optimal_infeasible_and_unbounded():
