@@ -24,8 +24,13 @@ SOLVER_CHECK_TOL = 1e-6
 MEMBERSHIP_TOL = 1e-7
 
 #: Relative tolerance below which a reduced cost on an unbounded factor counts as zero, so that a
-#: weak-duality certificate stays finite (see ``solvers.certified_cz_support``).
+#: weak-duality certificate stays finite (see ``solvers.factor_set``).
 REDUCED_COST_TOL = 1e-7
+
+#: A factor set is empty when its elastic phase-one residual min{t : |Âη − b̂| ≤ t, |η_B| ≤ 1}, in the
+#: presolved units (rows of unit ∞-norm, bounded factors of unit bound), exceeds this relative to
+#: 1 + ‖b̂‖∞: ten times the solver's accuracy, so that the verdict is not solver noise.
+EMPTINESS_TOL = 1e-8
 
 #: Relative tolerance of the rank decisions (null spaces, pseudo-inverses, recession directions).
 RANK_TOL = 1e-10

@@ -132,11 +132,11 @@ def test_the_factor_set_of_a_cz_with_contradictory_constraints_is_empty():
 def test_unbounded_objectives_are_those_not_cancelled_on_the_free_factors():
     # ξ1 free, ξ2 ∈ [−1, 1], ξ1 − ξ2 = 0: the free factor is pinned, the set is bounded.
     pinned = solvers.FactorConstraints(np.array([[1.0, -1.0]]), np.zeros(1), np.array([np.inf, 1.0]))
-    g = np.array([[1.0], [-3.0]])
-    assert not pinned.unbounded_objectives(g, np.ones(2), "t").any()
+    g = np.array([[1.0, 0.0], [-3.0, 2.0]])
+    assert not pinned.unbounded_objectives(g, "t").any()
     # ξ1, ξ2 free with ξ1 − ξ2 = 0: the line ξ1 = ξ2; objectives (1, −1) vanish on it, (1, 0) do not.
     line = solvers.FactorConstraints(np.array([[1.0, -1.0]]), np.zeros(1), np.full(2, np.inf))
-    flags = line.unbounded_objectives(np.array([[1.0, -1.0], [1.0, 0.0]]), np.ones(2), "t")
+    flags = line.unbounded_objectives(np.array([[1.0, -1.0], [1.0, 0.0]]), "t")
     assert flags.tolist() == [False, True]
 
 
