@@ -106,8 +106,10 @@ class CZProgram:
         if self.factors._empty:
             return np.full(k, -np.inf), points, xis, lams
         GtD = np.asarray((self.G.T @ D.T).T)  # (k, ng): objective of each direction
-        absG = abs(self.G) if sp.issparse(self.G) else np.abs(self.G)
-        magnitude = np.asarray((absG.T @ np.abs(D).T).T) * (1 + self.G.shape[0])
+        magnitude = [None] * k
+        if self.factors.free.size:  # rounding level of GtD: noise below it is an exact zero
+            absG = abs(self.G) if sp.issparse(self.G) else np.abs(self.G)
+            magnitude = np.asarray((absG.T @ np.abs(D).T).T) * (1 + self.G.shape[0])
         context = "computing a support function of a constrained zonotope"
         start = time.perf_counter()
         try:

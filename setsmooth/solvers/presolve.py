@@ -41,6 +41,11 @@ __all__ = ["Presolved", "presolve", "RUIZ_SWEEPS"]
 RUIZ_SWEEPS = 4
 
 
+#: Rows whose smallest singular value is at least this fraction of the largest are independent
+#: beyond doubt (far above the rank tolerance of `independent_rows`), and the QR is skipped.
+INDEPENDENT_RCOND = 1e-6
+
+
 @dataclass(frozen=True)
 class Presolved:
     """The presolved factor set (see the module docstring).
@@ -76,6 +81,18 @@ class Presolved:
     bounded: np.ndarray
     empty: bool
     dependent_checked: bool
+
+    @property
+    def has_free(self) -> bool:
+        """Whether some kept factor is free (h = ∞)."""
+        return not bool(self.bounded.all())
+
+    def free_residual(self, q: np.ndarray, z: np.ndarray) -> float:
+        """max_j free |q_j + (Âᵀz)_j|: how far z is from cancelling the objective q on the free
+        factors (0 without free factors)."""
+        if self.bounded.all():
+            return 0.0
+        return float(np.abs(q + self.A.T @ z)[~self.bounded].max(initial=0.0))
 
     def objective(self, g: np.ndarray) -> np.ndarray:
         """ĝ = S g[cols] for objectives ``g`` of the original factors (rows of a (k, ng) array)."""
@@ -115,26 +132,28 @@ def presolve(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray, *, dependent: bool)
     hk = h[cols]
     bounded = np.isfinite(hk)
     col_scale = np.where(bounded, hk, 1.0)
-    M = sp.csc_matrix(A[:, cols] @ sp.diags(col_scale)) if cols.size else sp.csc_matrix((nc, 0))
-    M.eliminate_zeros()
+    # Scaled in place on the CSC arrays: scipy's sparse products cost more than Clarabel's whole
+    # solve of a small CZ.
+    M = sp.csc_matrix(A[:, cols]) if cols.size < ng else A.copy()
+    M.sum_duplicates()
+    col_of = np.repeat(np.arange(M.shape[1]), np.diff(M.indptr))
+    M.data = M.data * col_scale[col_of]
     row_scale = np.ones(nc)
     free = ~bounded
-    for _ in range(RUIZ_SWEEPS):
-        rn = _abs_max(M, axis=1)
-        r = np.where(rn > 0, 1.0 / np.sqrt(np.where(rn > 0, rn, 1.0)), 1.0)
-        M = sp.csc_matrix(sp.diags(r) @ M)
+    # Without free factors only rows are scaled, and the exact normalization below suffices.
+    for _ in range(RUIZ_SWEEPS if free.any() else 0):
+        r = _inverse_sqrt(_row_abs_max(M))
+        M.data *= r[M.indices]
         row_scale *= r
-        if free.any():
-            cn = _abs_max(M, axis=0)
-            s = np.where(free & (cn > 0), 1.0 / np.sqrt(np.where(cn > 0, cn, 1.0)), 1.0)
-            M = sp.csc_matrix(M @ sp.diags(s))
-            col_scale = col_scale * s
+        s = np.where(free, _inverse_sqrt(_col_abs_max(M)), 1.0)
+        M.data *= s[col_of]
+        col_scale = col_scale * s
     # A last exact row normalization: every kept row has unit ∞-norm, so b̂ reads in the units of
     # the bounded factors (|η| ≤ 1) and emptiness tolerances mean the same for every representation.
-    rn = _abs_max(M, axis=1)
+    rn = _row_abs_max(M)
     nonzero = rn > 0
     r = np.where(nonzero, 1.0 / np.where(nonzero, rn, 1.0), 1.0)
-    M = sp.csc_matrix(sp.diags(r) @ M)
+    M.data *= r[M.indices]
     row_scale *= r
     bs = b * row_scale
     # A zero row reads 0 = b_i; b_i left over by cancellation is rounding, judged against the other
@@ -142,15 +161,42 @@ def presolve(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray, *, dependent: bool)
     scale_b = 1.0 + np.abs(bs[nonzero]).max(initial=0.0)
     empty = bool(np.any(np.abs(b[~nonzero]) > np.sqrt(tol.RANK_TOL) * scale_b))
     rows = np.flatnonzero(nonzero)
-    if dependent and rows.size > 1 and not empty:
-        basis = independent_rows(M[rows], bs[rows])
+    if dependent and rows.size > 1 and not empty and not _well_conditioned(M, rows):
+        basis = independent_rows(M[rows] if rows.size < nc else M, bs[rows])
         empty = not basis.consistent
         rows = rows[basis.keep]
     Mr = sp.csc_matrix(M[rows]) if rows.size < nc else M
     return Presolved(Mr, bs[rows], rows, cols, row_scale[rows], col_scale, bounded, empty, dependent)
 
 
-def _abs_max(M: sp.csc_matrix, axis: int) -> np.ndarray:
-    if M.nnz == 0:
-        return np.zeros(M.shape[1 - axis])
-    return np.asarray(abs(M).max(axis=axis).todense()).reshape(-1)
+def _well_conditioned(M: sp.csc_matrix, rows: np.ndarray) -> bool:
+    """Whether the kept rows are certainly independent: σ_min ≥ `INDEPENDENT_RCOND`·σ_max of the
+    (row-normalized) rows, a cheap test that spares the rank-revealing QR on the common case."""
+    if rows.size > M.shape[1]:
+        return False
+    dense = (M[rows] if rows.size < M.shape[0] else M).toarray()
+    sv = np.linalg.svd(dense, compute_uv=False)
+    return bool(sv[-1] >= INDEPENDENT_RCOND * sv[0])
+
+
+def _inverse_sqrt(norms: np.ndarray) -> np.ndarray:
+    """1/√norm, and 1 for zero norms (a zero row or column is left alone)."""
+    out = np.ones_like(norms)
+    pos = norms > 0
+    out[pos] = 1.0 / np.sqrt(norms[pos])
+    return out
+
+
+def _row_abs_max(M: sp.csc_matrix) -> np.ndarray:
+    out = np.zeros(M.shape[0])
+    np.maximum.at(out, M.indices, np.abs(M.data))
+    return out
+
+
+def _col_abs_max(M: sp.csc_matrix) -> np.ndarray:
+    out = np.zeros(M.shape[1])
+    counts = np.diff(M.indptr)
+    nonempty = counts > 0
+    if M.nnz:
+        out[nonempty] = np.maximum.reduceat(np.abs(M.data), M.indptr[:-1][nonempty])
+    return out
