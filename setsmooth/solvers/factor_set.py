@@ -14,7 +14,9 @@ for dependent rows, the fully presolved program. A reduced-accuracy answer ('Alm
 after an independent check: the primal point's residual on the original data and its gap to the
 always-valid weak-duality bound, both within ``SOLVER_CHECK_TOL`` of the problem's scale.
 
-Emptiness (`is_empty`) is decided by an elastic phase-one program, min{t : |Âη − b̂| ≤ t, |η_B| ≤ 1},
+Emptiness (`is_empty`): a feasibility solve on the kept instance whose point satisfies the rows to
+``EMPTINESS_TOL`` proves non-emptiness (the common case, at the cost of one re-solve); anything else
+is decided by an elastic phase-one program, min{t : |Âη − b̂| ≤ t, |η_B| ≤ 1},
 which is feasible and bounded whatever the data, so an interior-point method settles it even on flat
 or nearly empty sets; the set is empty iff t* > ``EMPTINESS_TOL`` in the equilibrated units (every
 presolved row has unit ∞-norm and every bounded factor unit bound). A support LP that reports
@@ -43,13 +45,16 @@ __all__ = ["FactorConstraints", "Maximized", "STACK_MAX_VARIABLES", "DENSE_PRESO
 #: it has at most this many variables, and go one objective at a time beyond.
 STACK_MAX_VARIABLES = 3000
 
+_INFEASIBLE = ("PrimalInfeasible", "AlmostPrimalInfeasible")
+_UNBOUNDED = ("DualInfeasible", "AlmostDualInfeasible")
+
 #: Objective entries below NOISE_FACTOR·eps·(|G|ᵀ|d|)_j are the rounding noise of an exact zero
 #: (a direction orthogonal to the free factors' lineality, computed in floating point).
 NOISE_FACTOR = 64
 
 #: Linearly dependent rows are looked for up front (dense rank-revealing QR) when nc·ng is at most
 #: this; larger (sparse, trajectory-sized) programs look for them only after a failed solve.
-DENSE_PRESOLVE_MAX = 60_000
+DENSE_PRESOLVE_MAX = 5_000
 
 
 @dataclass(frozen=True)
@@ -278,18 +283,18 @@ class FactorConstraints:
                 q, lam0 = _project_free(pre, q)
             name, eta, z = self._solve_on(pre, q, refine)
             z = z[:m]
-            if name == "PrimalInfeasible":
+            if name in _INFEASIBLE:
                 if self.is_empty():
                     return Maximized("infeasible", nan_xi, nan_lam)
                 return self._relaxed(pre, q, sigma, lam0)
             leak = pre.free_residual(q, z)
             if pre.has_free and not bounded and (
-                    name == "DualInfeasible" or (name in ("Solved", "AlmostSolved")
+                    name in _UNBOUNDED or (name in ("Solved", "AlmostSolved")
                                                  and leak > tol.REDUCED_COST_TOL)):
                 # Unbounded, or the solver's 'optimum' of an unbounded direction (seen with huge
                 # primal points), or an objective that cancels on the free factors only up to
                 # rounding: the recession program decides.
-                if name == "DualInfeasible" and self.is_empty():
+                if name in _UNBOUNDED and self.is_empty():
                     return Maximized("infeasible", nan_xi, nan_lam)
                 bounded = not self.unbounded_objectives(g[None, :], context, magnitude[None, :])[0]
                 if not bounded:
@@ -298,7 +303,7 @@ class FactorConstraints:
                 q, lam0 = _project_free(pre, q)
                 name, eta, z = self._solve_on(pre, q, refine)
                 z = z[:m]
-                if name == "PrimalInfeasible":
+                if name in _INFEASIBLE:
                     if self.is_empty():
                         return Maximized("infeasible", nan_xi, nan_lam)
                     return self._relaxed(pre, q, sigma, lam0)
@@ -308,10 +313,14 @@ class FactorConstraints:
                 return Maximized("optimal", pre.factors(eta[None], self.ng)[0],
                                  pre.multipliers((z + lam0)[None], np.array([sigma]), self.nc)[0])
             last = name
-            if unverified and name not in ("PrimalInfeasible", "DualInfeasible") \
+            if unverified and name not in _UNBOUNDED \
                     and np.all(np.isfinite(z)):
                 return Maximized("unverified", pre.factors(eta[None], self.ng)[0],
                                  pre.multipliers((z + lam0)[None], np.array([sigma]), self.nc)[0])
+        if last not in _UNBOUNDED and not self.is_empty():
+            # The last resort on a set the phase-one program shows non-empty: the program relaxed
+            # by the phase-one residual (an outer value, within EMPTINESS_TOL of the set's rows).
+            return self._relaxed(pre, q, sigma, lam0)
         raise SolverError(last, context, kind=kind)
 
     @staticmethod
@@ -364,8 +373,22 @@ class FactorConstraints:
         if self.nc == 0:
             return False  # ξ = 0 is feasible since h ≥ 0
         context = "deciding emptiness of a constrained zonotope"
-        attempts = [(self.presolved, False), (self.presolved, True)]
-        if not self.presolved.dependent_checked:
+        first = self.presolved
+        if first.empty:
+            return True
+        if first.A.shape[0] and first.A.shape[1]:
+            # The common case first, on the kept instance the support LPs reuse: a feasibility
+            # solve whose point satisfies the rows to the emptiness tolerance proves non-emptiness.
+            # Anything else (infeasible, stalled, inaccurate) is left to the phase-one program.
+            name, eta, _ = self._solve_on(first, np.zeros(first.A.shape[1]), False)
+            if name == "Solved":
+                eta[first.bounded] = np.clip(eta[first.bounded], -1.0, 1.0)
+                upper = float(np.abs(first.A @ eta - first.b).max(initial=0.0))
+                if upper <= tol.EMPTINESS_TOL * (1.0 + np.abs(first.b).max(initial=0.0)):
+                    self._phase_one = upper
+                    return False
+        attempts = [(first, False), (first, True)]
+        if not first.dependent_checked:
             attempts.append((None, True))
         last = "Unknown"
         for pre, refine in attempts:
