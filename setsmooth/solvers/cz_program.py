@@ -70,8 +70,12 @@ class CZProgram:
         self.last_solve_time = 0.0
 
     # -- queries -----------------------------------------------------------------------------------
-    def support(self, D: np.ndarray, certified: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    def support(self, D: np.ndarray,
+                certified: bool | None = False) -> tuple[np.ndarray, np.ndarray]:
         """Support values and support points for every row of ``D``.
+
+        ``certified``: True returns floating-point upper bounds (or raises); None returns them where
+        a sound bound exists and the solver's values elsewhere; False the solver's values.
 
         Returns
         -------
@@ -86,9 +90,15 @@ class CZProgram:
         SolverError
             When no fallback settles a program, or (``certified``) no sound finite bound exists.
         """
-        values, points, xis, lams = self._solve(D, certified)
+        values, points, xis, lams = self._solve(D, certified is True)
         if certified:
             values = self._certify(D, values, lams)
+        elif certified is None:
+            try:
+                values = self._certify(D, values, lams)
+            except SolverError as err:
+                if err.status != "UncertifiableReducedCost":
+                    raise
         return values, points
 
     def solutions(self, D: np.ndarray) -> list[SupportSolution]:

@@ -96,3 +96,16 @@ def test_a_certified_bound_holds_for_any_multiplier():
     exact = float(d[0] @ c - linprog(-(G.T @ d[0]), A_eq=A, b_eq=b, bounds=bounds).fun)
     for lam in rng.standard_normal((20, 1, 2)) * 3:  # arbitrary multipliers: loose but valid
         assert certify.certified_bound(d, G, c, sp.csc_matrix(A), b, h, lam, 0.0)[0] >= exact - 1e-12
+
+
+def test_interval_hulls_of_czs_are_certified_by_default():
+    rng = np.random.default_rng(11)
+    G, A = rng.standard_normal((3, 10)), rng.standard_normal((3, 10))
+    Z = ss.ConstrainedZonotope(G, rng.standard_normal(3), A=A, b=A @ rng.uniform(-0.5, 0.5, 10))
+    default, certified = Z.interval_hull(), Z.interval_hull(certified=True)
+    np.testing.assert_array_equal(default.lo, certified.lo)
+    np.testing.assert_array_equal(default.hi, certified.hi)
+    plain = Z.interval_hull(certified=False)
+    assert np.all(default.lo <= plain.lo) and np.all(default.hi >= plain.hi)
+    np.testing.assert_allclose(default.hi, plain.hi, atol=1e-7)
+    assert Z.diameter() >= Z.diameter(certified=False)
