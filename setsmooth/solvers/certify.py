@@ -25,7 +25,7 @@ import scipy.sparse as sp
 
 from .clarabel_lp import SolverError
 
-__all__ = ["gamma", "free_factor_bound", "correct_multipliers", "certified_bound",
+__all__ = ["gamma", "free_factor_bound", "normal_solver", "correct_multipliers", "certified_bound",
            "FREE_BOUND_DENSE_MAX"]
 
 _U = np.finfo(float).eps / 2  # unit roundoff
@@ -83,27 +83,52 @@ def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray) -> float |
     return float(bound) if np.isfinite(bound) else None
 
 
-def correct_multipliers(AF: sp.csc_matrix, gF: np.ndarray, lam: np.ndarray) -> np.ndarray:
+def normal_solver(AF: sp.csc_matrix):
+    """A solver of (A_FᵀA_F) y = r by sparse LU, or None when A_F is rank deficient (or empty)."""
+    from scipy.sparse.linalg import splu
+
+    if AF.shape[1] == 0 or AF.shape[0] < AF.shape[1]:
+        return None
+    try:
+        lu = splu(sp.csc_matrix(AF.T @ AF))
+    except RuntimeError:  # exactly singular
+        return None
+    return lu.solve
+
+
+def correct_multipliers(AF: sp.csc_matrix, gF: np.ndarray, lam: np.ndarray,
+                        solve_normal=None) -> np.ndarray:
     """λ + δ with δ the least-norm solution of A_Fᵀδ = g_F − A_Fᵀλ (per row of ``lam``).
 
-    The correction is small when the solver's λ nearly cancels the free factors' reduced cost; it is
-    computed by sparse least squares on the free columns only.
+    The correction is small when the solver's λ nearly cancels the free factors' reduced cost. With
+    ``solve_normal`` (a solver of A_FᵀA_F y = r, `normal_solver`) δ = A_F y, refined once; otherwise
+    by sparse least squares (lsqr), for rank-deficient A_F.
     """
     if AF.shape[1] == 0:
         return lam
-    from scipy.sparse.linalg import lsqr
-
     out = lam.copy()
     AFt = sp.csr_matrix(AF.T)
+    AFc = sp.csc_matrix(AF)
     for i in range(lam.shape[0]):
         res = gF[i] - AFt @ lam[i]
         if not np.any(res):
             continue
-        # Two passes of lsqr: the second removes what the first left at its stopping tolerance.
+        # Two passes: the second removes what the first left by rounding or stopping tolerance.
         for _ in range(2):
-            delta = lsqr(AFt, res, atol=1e-15, btol=1e-15, iter_lim=10 * AF.shape[1] + 50)[0]
-            out[i] += delta
-            res = gF[i] - AFt @ out[i]
+            if solve_normal is not None:
+                y = solve_normal(res)
+                if not np.all(np.isfinite(y)):
+                    break
+                delta = AFc @ y
+            else:
+                from scipy.sparse.linalg import lsqr
+
+                delta = lsqr(AFt, res, atol=1e-15, btol=1e-15, iter_lim=10 * AF.shape[1] + 50)[0]
+            candidate = out[i] + delta
+            new_res = gF[i] - AFt @ candidate
+            if np.abs(new_res).max() >= np.abs(res).max():
+                break  # no progress: keep the better multiplier
+            out[i], res = candidate, new_res
     return out
 
 

@@ -19,9 +19,10 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import tolerances as tol
-from .certify import certified_bound, correct_multipliers
+from .certify import certified_bound, correct_multipliers, normal_solver
 from .clarabel_lp import _ALMOST_SOLVED, SolverError, solve_lp
 from .factor_set import FactorConstraints
+from .instances import cached_instance
 
 __all__ = ["CZProgram", "SupportSolution"]
 
@@ -151,7 +152,9 @@ class CZProgram:
             AF = self.A[:, free]
             gF = np.asarray((self.G[:, free].T @ D[rows].T).T) if sp.issparse(self.G) \
                 else D[rows] @ self.G[:, free]
-            corrected = correct_multipliers(sp.csc_matrix(AF), gF, lam)
+            solve_normal = cached_instance(self.factors, "normal equations of the free factors",
+                                           lambda: normal_solver(sp.csc_matrix(AF)))
+            corrected = correct_multipliers(sp.csc_matrix(AF), gF, lam, solve_normal)
             bound = self.factors.free_bound()
             if bound is None:
                 # Only exact cancellation certifies then; the solver's λ may have it (small
