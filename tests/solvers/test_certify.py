@@ -109,3 +109,21 @@ def test_interval_hulls_of_czs_are_certified_by_default():
     assert np.all(default.lo <= plain.lo) and np.all(default.hi >= plain.hi)
     np.testing.assert_allclose(default.hi, plain.hi, atol=1e-7)
     assert Z.diameter() >= Z.diameter(certified=False)
+
+
+def test_a_support_solution_carries_a_feasible_factor_vector_and_its_multipliers():
+    rng = np.random.default_rng(5)
+    G, A = rng.standard_normal((3, 8)), rng.standard_normal((2, 8))
+    Z = ss.ConstrainedZonotope(G, rng.standard_normal(3), A=A, b=A @ rng.uniform(-0.5, 0.5, 8))
+    d = rng.standard_normal(3)
+    sol = Z.support_solution(d)
+    assert sol.value == pytest.approx(Z.support(d), abs=1e-9)
+    np.testing.assert_allclose(A @ sol.factors, Z.b, atol=1e-8)
+    assert np.all(np.abs(sol.factors) <= 1 + 1e-8)
+    np.testing.assert_allclose(G @ sol.factors + Z.c, sol.point, atol=1e-12)
+    # The multipliers certify the value: weak duality with them is tight.
+    bound = certify.certified_bound(d[None], G, Z.c, sp.csc_matrix(A), Z.b, Z.h,
+                                    sol.multipliers[None], 0.0)[0]
+    assert sol.value <= bound <= sol.value + 1e-7
+    free = ss.ConstrainedZonotope(G, np.zeros(3)).support_solution(d)  # closed form, nc = 0
+    assert free.value == pytest.approx(d @ G @ free.factors) and free.multipliers.size == 0
