@@ -20,6 +20,11 @@ SOLVER_TOL = 1e-9
 #: primal feasibility) before it is returned; an answer failing the check raises ``SolverError``.
 SOLVER_CHECK_TOL = 1e-6
 
+#: A reduced-accuracy answer that passes the check above with a relative duality gap (and
+#: residuals) below this is used at once; a looser one is kept while the fallbacks (refinement, the
+#: fully presolved program, the simplex method) look for a tighter one.
+ACCURATE_GAP_TOL = 1e-8
+
 #: Relative margin used to decide membership ``contains`` when the caller gives no ``tol``.
 MEMBERSHIP_TOL = 1e-7
 

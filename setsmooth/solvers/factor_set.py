@@ -10,9 +10,13 @@ queried from several threads and pickled.
 
 Status policy (`maximize`): 'Solved' is taken; any other status is settled by a verified fallback
 before anything is raised: a fresh solve with iterative refinement, then, if the presolve had not looked
-for dependent rows, the fully presolved program. A reduced-accuracy answer ('AlmostSolved') is used only
-after an independent check: the primal point's residual on the original data and its gap to the
-always-valid weak-duality bound, both within ``SOLVER_CHECK_TOL`` of the problem's scale.
+for dependent rows, the fully presolved program, and last HiGHS's simplex method (SciPy) on it. A
+reduced-accuracy answer ('AlmostSolved', and every simplex answer) is used only after an independent
+check in the presolved units: the primal point's residual and bound overshoot and its gap to the
+always-valid weak-duality bound, within ``SOLVER_CHECK_TOL`` of the scale; one with a gap above
+``ACCURATE_GAP_TOL`` is kept while the later fallbacks look for a tighter one. Infeasible statuses are
+settled by the emptiness verdict below; unbounded ones, and solutions whose multipliers do not cancel
+the objective on free factors, by a recession program.
 
 Emptiness (`is_empty`): a feasibility solve on the kept instance whose point satisfies the rows to
 ``EMPTINESS_TOL`` proves non-emptiness (the common case, at the cost of one re-solve); anything else
@@ -218,8 +222,16 @@ class FactorConstraints:
                                           clarabel_lp.settings())
         return cached_instance(self, ("maximize", id(pre)), build)
 
-    def _solve_on(self, pre: Presolved, q: np.ndarray, refine: bool):
-        """Minimize qᵀη over the presolved program: (status name, η, ẑ of every row)."""
+    def _solve_on(self, pre: Presolved, q: np.ndarray, refine: bool | str):
+        """Minimize qᵀη over the presolved program: (status name, η, ẑ of the rows).
+
+        ``refine``: False on the kept instance, True on a fresh one with iterative refinement,
+        'simplex' by HiGHS's simplex (SciPy), the last resort on LPs where the interior-point
+        method stops at reduced accuracy; its optimum is reported as 'AlmostSolved' so that it goes
+        through the same independent check as any answer not certified by Clarabel.
+        """
+        if refine == "simplex":
+            return _simplex(pre, q)
         if refine:  # a fresh instance: the fallback must not inherit the kept one's state
             M, rhs, cones = self._program(pre)
             solver = clarabel.DefaultSolver(_zero_cost(q.size), q, M, rhs, cones,
@@ -263,7 +275,10 @@ class FactorConstraints:
         attempts = [(first, False), (first, True)]
         if not first.dependent_checked:
             attempts.append((None, True))  # the fully presolved program, built only if needed
+        attempts.append((None, "simplex"))
         last = "Unknown"
+        best: tuple[float, Maximized] | None = None  # the tightest verified reduced-accuracy answer
+        rough: Maximized | None = None  # the last unverified one (for certificates only)
         bounded = None  # the recession program's verdict on g, computed at most once
         for pre, refine in attempts:
             pre = self.fully_presolved if pre is None else pre
@@ -308,15 +323,25 @@ class FactorConstraints:
                         return Maximized("infeasible", nan_xi, nan_lam)
                     return self._relaxed(pre, q, sigma, lam0)
                 leak = pre.free_residual(q, z)
-            if leak <= tol.REDUCED_COST_TOL and (
-                    name == "Solved" or (name == "AlmostSolved" and self._verified(pre, q, eta, z))):
-                return Maximized("optimal", pre.factors(eta[None], self.ng)[0],
-                                 pre.multipliers((z + lam0)[None], np.array([sigma]), self.nc)[0])
+            if leak <= tol.REDUCED_COST_TOL and name in ("Solved", "AlmostSolved"):
+                gap = 0.0 if name == "Solved" else self._checked_gap(pre, q, eta, z)
+                if gap is not None:
+                    answer = Maximized("optimal", pre.factors(eta[None], self.ng)[0],
+                                       pre.multipliers((z + lam0)[None], np.array([sigma]),
+                                                       self.nc)[0])
+                    if gap <= tol.ACCURATE_GAP_TOL:
+                        return answer
+                    # Verified but loose: kept, while the fallbacks try for a tighter answer.
+                    if best is None or gap < best[0]:
+                        best = (gap, answer)
             last = name
-            if unverified and name not in _UNBOUNDED \
-                    and np.all(np.isfinite(z)):
-                return Maximized("unverified", pre.factors(eta[None], self.ng)[0],
-                                 pre.multipliers((z + lam0)[None], np.array([sigma]), self.nc)[0])
+            if np.all(np.isfinite(z)) and np.all(np.isfinite(eta)) and name not in _UNBOUNDED:
+                rough = Maximized("unverified", pre.factors(eta[None], self.ng)[0],
+                                  pre.multipliers((z + lam0)[None], np.array([sigma]), self.nc)[0])
+        if best is not None:
+            return best[1]
+        if unverified and rough is not None:
+            return rough
         if last not in _UNBOUNDED and not self.is_empty():
             # The last resort on a set the phase-one program shows non-empty: the program relaxed
             # by the phase-one residual (an outer value, within EMPTINESS_TOL of the set's rows).
@@ -324,20 +349,22 @@ class FactorConstraints:
         raise SolverError(last, context, kind=kind)
 
     @staticmethod
-    def _verified(pre: Presolved, q: np.ndarray, eta: np.ndarray, z: np.ndarray) -> bool:
+    def _checked_gap(pre: Presolved, q: np.ndarray, eta: np.ndarray, z: np.ndarray) -> float | None:
         """Independent check of a reduced-accuracy answer in the presolved units: primal residual,
-        bound overshoot and gap to the weak-duality bound b̂ᵀλ + Σ_B |ĝ − Âᵀλ|_j, all within
-        ``SOLVER_CHECK_TOL`` of the scale (rows and objective have unit ∞-norm, bounds are 1)."""
+        bound overshoot and gap to the weak-duality bound b̂ᵀλ + Σ_B |ĝ − Âᵀλ|_j must be within
+        ``SOLVER_CHECK_TOL`` of the scale (rows and objective have unit ∞-norm, bounds are 1).
+        Returns the relative gap, or None when the check fails."""
         lam = z  # Clarabel's stationarity q + Âᵀz = 0 on the free factors: λ̂ = z
         reduced = -q - pre.A.T @ lam
         if np.abs(reduced[~pre.bounded]).max(initial=0.0) > tol.REDUCED_COST_TOL:
-            return False
+            return None
         primal = float(-q @ eta)
         dual = float(lam @ pre.b + np.abs(reduced[pre.bounded]).sum())
         scale = 1.0 + np.abs(pre.b).max(initial=0.0) + np.abs(q).sum()
         residual = np.abs(pre.A @ eta - pre.b).max(initial=0.0)
         overshoot = np.max(np.abs(eta[pre.bounded]) - 1.0, initial=0.0)
-        return bool(max(abs(dual - primal), residual, overshoot) <= tol.SOLVER_CHECK_TOL * scale)
+        worst = max(abs(dual - primal), residual, overshoot) / scale
+        return worst if worst <= tol.SOLVER_CHECK_TOL else None
 
     def _relaxed(self, pre: Presolved, q: np.ndarray, sigma: float,
                  lam0: np.ndarray) -> Maximized:
@@ -478,3 +505,20 @@ def _project_free(pre: Presolved, q: np.ndarray) -> tuple[np.ndarray, np.ndarray
     shifted = q + pre.A.T @ lam0
     shifted[free] = 0.0
     return shifted, lam0
+
+
+def _simplex(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
+    """min qᵀη over the presolved program by HiGHS (SciPy): (status name, η, λ̂ in Clarabel's sign
+    convention q + Âᵀλ̂ = 0 on the free factors)."""
+    from scipy.optimize import linprog
+
+    m, p = pre.A.shape
+    bounds = np.where(pre.bounded[:, None], [[-1.0, 1.0]], [[-np.inf, np.inf]])
+    res = linprog(q, A_eq=pre.A if m else None, b_eq=pre.b if m else None, bounds=bounds,
+                  method="highs")
+    names = {0: "AlmostSolved", 1: "MaxIterations", 2: "PrimalInfeasible", 3: "DualInfeasible"}
+    name = names.get(res.status, "NumericalError")
+    if res.status != 0:
+        return name, np.full(p, np.nan), np.full(m, np.nan)
+    # HiGHS's marginals are ∂(min)/∂b_eq, i.e. q = Âᵀy + (bound duals): λ̂ = −y.
+    return name, np.asarray(res.x), -np.asarray(res.eqlin.marginals)
