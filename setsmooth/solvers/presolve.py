@@ -9,8 +9,10 @@ maps every representation of one set to (nearly) the same well-scaled program:
 * factors with ``h_j = 0`` are fixed at zero and dropped;
 * finite bounds are scaled out, ``ξ_j = h_j η_j`` with ``|η_j| ≤ 1`` (this makes the program
   invariant under rescaling a bounded factor);
-* rows and the columns of free factors are equilibrated to unit ∞-norm (alternating sweeps), so a
-  row or a free factor scaled by 1e±12 is the same row or factor;
+* rows are scaled to unit ∞-norm over their bounded entries, and the columns of free factors to
+  unit ∞-norm (alternating sweeps where rows hold free factors only), so a row or a free factor
+  scaled by 1e±12 is the same row or factor, and free factors take values in the units of the
+  bounded ones;
 * zero rows are dropped (an inconsistent one, 0 = b_i ≠ 0, means the set is empty), and, when
   asked (small or dense programs, or after a failed solve), linearly dependent rows too, through the
   scale-invariant rank decision of `setsmooth.linalg.independent_rows`.
@@ -36,8 +38,8 @@ from ..linalg import independent_rows
 
 __all__ = ["Presolved", "presolve", "RUIZ_SWEEPS"]
 
-#: Equilibration sweeps with free factors (each scales the free columns, then the rows, to unit
-#: ∞-norm); without free factors one row normalization is exact.
+#: Equilibration sweeps with free factors (each scales the free columns, then the rows holding only
+#: free factors, to unit ∞-norm); without free factors one row normalization is exact.
 RUIZ_SWEEPS = 3
 
 
@@ -140,23 +142,28 @@ def presolve(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray, *, dependent: bool)
     M.data = M.data * col_scale[col_of]
     row_scale = np.ones(nc)
     free = ~bounded
-    # Without free factors only rows are scaled, and the exact normalization below suffices.
-    for _ in range(RUIZ_SWEEPS if free.any() else 0):
-        # Free columns to unit ∞-norm, then rows (alternating ∞-norm scaling): a free factor
-        # written 1e12 times too large would otherwise drown the bounded ones of its rows.
+    # Rows are measured by their bounded entries, which are in the units of the factors' bounds
+    # (|η| ≤ 1): a row reads in those units whatever the scale of the free factors it also holds.
+    # Free columns are then scaled to unit ∞-norm, which puts the free factors' values in the same
+    # units (a trajectory set of noise scale 1e-6 has states of size 1e-6: unscaled they would sit
+    # below the solver's absolute tolerances). Rows without bounded entries are measured by all of
+    # them, which the free-column scaling changes: hence a few alternating sweeps.
+    has_free = bool(free.any())
+    bounded_norm = _row_abs_max(M, bounded[col_of]) if has_free else _row_abs_max(M)
+    r = _inverse(bounded_norm)
+    M.data *= r[M.indices]
+    row_scale *= r
+    only_free = bounded_norm == 0
+    for _ in range(RUIZ_SWEEPS if has_free else 0):
         s = np.where(free, _inverse(_col_abs_max(M)), 1.0)
         M.data *= s[col_of]
         col_scale = col_scale * s
-        r = _inverse(_row_abs_max(M))
+        if not only_free.any():
+            break  # the bounded-entry row norms do not change with the free columns
+        r = np.where(only_free, _inverse(_row_abs_max(M)), 1.0)
         M.data *= r[M.indices]
         row_scale *= r
-    # A last exact row normalization: every kept row has unit ∞-norm, so b̂ reads in the units of
-    # the bounded factors (|η| ≤ 1) and emptiness tolerances mean the same for every representation.
-    rn = _row_abs_max(M)
-    nonzero = rn > 0
-    r = np.where(nonzero, 1.0 / np.where(nonzero, rn, 1.0), 1.0)
-    M.data *= r[M.indices]
-    row_scale *= r
+    nonzero = _row_abs_max(M) > 0
     bs = b * row_scale
     # A zero row reads 0 = b_i; b_i left over by cancellation is rounding, judged against the other
     # rows' normalized right-hand sides, as `independent_rows` judges one.
@@ -189,9 +196,13 @@ def _inverse(norms: np.ndarray) -> np.ndarray:
     return out
 
 
-def _row_abs_max(M: sp.csc_matrix) -> np.ndarray:
+def _row_abs_max(M: sp.csc_matrix, entries: np.ndarray | None = None) -> np.ndarray:
+    """∞-norm of every row (over the stored entries selected by the mask ``entries``)."""
     out = np.zeros(M.shape[0])
-    np.maximum.at(out, M.indices, np.abs(M.data))
+    if entries is None:
+        np.maximum.at(out, M.indices, np.abs(M.data))
+    else:
+        np.maximum.at(out, M.indices[entries], np.abs(M.data[entries]))
     return out
 
 
