@@ -26,7 +26,7 @@ import scipy.sparse as sp
 from .clarabel_lp import SolverError
 
 __all__ = ["gamma", "free_factor_bound", "normal_solver", "correct_multipliers", "certified_bound",
-           "FREE_BOUND_DENSE_MAX"]
+           "FREE_BOUND_DENSE_MAX", "Operators"]
 
 _U = np.finfo(float).eps / 2  # unit roundoff
 
@@ -132,8 +132,23 @@ def correct_multipliers(AF: sp.csc_matrix, gF: np.ndarray, lam: np.ndarray,
     return out
 
 
+class Operators:
+    """Gᵀ, |G|ᵀ, Aᵀ, |A|ᵀ and the per-column γ factors of one CZ, prepared once for `certified_bound`
+    (scipy's sparse conversions cost more than the bound itself on small sets)."""
+
+    def __init__(self, G, A: sp.csc_matrix):
+        dense = not sp.issparse(G)
+        self.Gt = np.ascontiguousarray(G.T) if dense else sp.csr_matrix(G.T)
+        self.absGt = np.abs(self.Gt) if dense else abs(self.Gt)
+        self.At = sp.csr_matrix(A.T)
+        self.absAt = abs(self.At)
+        col_nnz = np.diff(A.indptr) if A.shape[0] else np.zeros(A.shape[1], dtype=int)
+        self.gamma_cols = gamma(col_nnz + 2)
+
+
 def certified_bound(d: np.ndarray, G, c: np.ndarray, A: sp.csc_matrix, b: np.ndarray,
-                    h: np.ndarray, lam: np.ndarray, free_bound: float | None) -> np.ndarray:
+                    h: np.ndarray, lam: np.ndarray, free_bound: float | None,
+                    ops: Operators | None = None) -> np.ndarray:
     """Upper bounds on h_Z(d_i) for Z(G, c, A, b, h), rigorous in floating point (module docstring).
 
     Parameters
@@ -146,6 +161,8 @@ def certified_bound(d: np.ndarray, G, c: np.ndarray, A: sp.csc_matrix, b: np.nda
         Any multipliers (one row per direction).
     free_bound : float or None
         β ≥ ‖ξ_F‖∞ over the factor set (`free_factor_bound`); None if unknown.
+    ops : Operators, optional
+        The prepared transposes of G and A (built here when not given).
 
     Returns
     -------
@@ -159,16 +176,16 @@ def certified_bound(d: np.ndarray, G, c: np.ndarray, A: sp.csc_matrix, b: np.nda
     """
     n = d.shape[1]
     nc, ng = A.shape
-    absG = abs(G) if sp.issparse(G) else np.abs(G)
-    g = np.asarray((G.T @ d.T).T)
-    g_err = gamma(n + 1) * np.asarray((absG.T @ np.abs(d).T).T)
-    Atl = np.asarray((A.T @ lam.T).T)
-    col_nnz = np.diff(A.indptr) if nc else np.zeros(ng, dtype=int)
-    absAtl = np.asarray((abs(A).T @ np.abs(lam).T).T)
+    ops = Operators(G, A) if ops is None else ops
+    g = np.asarray((ops.Gt @ d.T).T)
+    g_err = gamma(n + 1) * np.asarray((ops.absGt @ np.abs(d).T).T)
+    Atl = np.asarray((ops.At @ lam.T).T)
+    absAtl = np.asarray((ops.absAt @ np.abs(lam).T).T)
     reduced = g - Atl
     # |computed r_j − exact r_j| ≤ γ_{m_j+2}(|g_j| + (|A|ᵀ|λ|)_j) + |g̃_j − g_j|; the computed |A|ᵀ|λ|
     # is itself inflated by (1 + γ) for its own rounding.
-    r_err = gamma(col_nnz + 2) * (np.abs(g) + absAtl * (1.0 + gamma(col_nnz + 2))) + g_err
+    gc = ops.gamma_cols
+    r_err = gc * (np.abs(g) + absAtl * (1.0 + gc)) + g_err
     r_abs = np.abs(reduced) + r_err
     finite = np.isfinite(h)
     terms = r_abs[:, finite] @ h[finite]

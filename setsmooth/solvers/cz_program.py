@@ -19,7 +19,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import tolerances as tol
-from .certify import certified_bound, correct_multipliers, normal_solver
+from .certify import Operators, certified_bound, correct_multipliers, normal_solver
 from .clarabel_lp import _ALMOST_SOLVED, SolverError, solve_lp
 from .factor_set import FactorConstraints
 from .instances import cached_instance
@@ -66,6 +66,7 @@ class CZProgram:
         self.factors = factors
         self.A, self.b, self.h = factors.A, factors.b, factors.h
         self.ng, self.nc, self.finite = factors.ng, factors.nc, factors.finite
+        self._ops: Operators | None = None  # prepared on the first certificate
         #: Seconds spent in the LPs (Clarabel and the presolved program's recovery) of the last
         #: `support` call.
         self.last_solve_time = 0.0
@@ -167,8 +168,11 @@ class CZProgram:
         return self._bound(D, values, rows, lam, bound)
 
     def _bound(self, D, values, rows, lam, bound):
+        if self._ops is None:
+            self._ops = Operators(self.G, self.A)
         out = values.copy()
-        out[rows] = certified_bound(D[rows], self.G, self.c, self.A, self.b, self.h, lam, bound)
+        out[rows] = certified_bound(D[rows], self.G, self.c, self.A, self.b, self.h, lam, bound,
+                                    self._ops)
         return out
 
     def contains(self, p: np.ndarray, margin: float) -> bool:
