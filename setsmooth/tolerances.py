@@ -37,6 +37,10 @@ REDUCED_COST_TOL = 1e-7
 #: 1 + ‖b̂‖∞: ten times the solver's accuracy, so that the verdict is not solver noise.
 EMPTINESS_TOL = 1e-8
 
+#: Multipliers that will certify a support value should cancel the objective on free factors to
+#: this (presolved units); a solution leaving more is solved again with iterative refinement.
+CERTIFICATE_LEAK_TOL = 1e-11
+
 #: Relative tolerance of the rank decisions (null spaces, pseudo-inverses, recession directions).
 RANK_TOL = 1e-10
 

@@ -92,7 +92,7 @@ class CZProgram:
         SolverError
             When no fallback settles a program, or (``certified``) no sound finite bound exists.
         """
-        values, points, xis, lams = self._solve(D, certified is True)
+        values, points, xis, lams = self._solve(D, certified is True, certified is not False)
         if certified:
             values = self._certify(D, values, lams)
         elif certified is None:
@@ -108,7 +108,7 @@ class CZProgram:
         values, points, xis, lams = self._solve(D)
         return [SupportSolution(float(v), p, x, m) for v, p, x, m in zip(values, points, xis, lams)]
 
-    def _solve(self, D: np.ndarray, certified: bool = False):
+    def _solve(self, D: np.ndarray, certified: bool = False, tight: bool = False):
         k, n = D.shape
         values = np.full(k, np.inf)
         points = np.full((k, n), np.nan)
@@ -127,7 +127,7 @@ class CZProgram:
         try:
             for i in range(k):
                 res = self.factors.maximize(GtD[i], context, magnitude=magnitude[i],
-                                            unverified=certified)
+                                            unverified=certified, tight=tight)
                 if res.status == "infeasible":
                     return np.full(k, -np.inf), points, xis, lams
                 if res.status == "unbounded":

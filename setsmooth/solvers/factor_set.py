@@ -244,7 +244,8 @@ class FactorConstraints:
         return name, np.asarray(sol.x), np.asarray(sol.z)
 
     def maximize(self, g: np.ndarray, context: str, kind: str = "support", *,
-                 magnitude: np.ndarray | None = None, unverified: bool = False) -> Maximized:
+                 magnitude: np.ndarray | None = None, unverified: bool = False,
+                 tight: bool = False) -> Maximized:
         """Maximize gᵀξ over the factor set (status policy in the module docstring).
 
         Parameters
@@ -260,6 +261,10 @@ class FactorConstraints:
         unverified : bool
             Return the last attempt's point and multipliers with status 'unverified' instead of
             raising when no attempt is settled (for weak-duality certificates, valid for any λ).
+        tight : bool
+            The multipliers will certify a bound: with free factors, a solution whose multipliers
+            leave more than ``CERTIFICATE_LEAK_TOL`` of the objective on them is solved again with
+            iterative refinement (the least-squares correction of a loose λ loosens the bound).
 
         Raises
         ------
@@ -303,6 +308,14 @@ class FactorConstraints:
                     return Maximized("infeasible", nan_xi, nan_lam)
                 return self._relaxed(pre, q, sigma, lam0)
             leak = pre.free_residual(q, z)
+            if name == "Solved" and refine is False and leak > (
+                    tol.CERTIFICATE_LEAK_TOL if tight else tol.REDUCED_COST_TOL):
+                # Multipliers that leave part of the objective on the free factors: refined first
+                # (cheaper than the recession program, and a certificate needs them tight).
+                again = self._solve_on(pre, q, True)
+                again_leak = pre.free_residual(q, again[2][:m])
+                if again[0] == "Solved" and again_leak < leak:
+                    name, eta, z, leak = again[0], again[1], again[2][:m], again_leak
             if pre.has_free and not bounded and (
                     name in _UNBOUNDED or (name in ("Solved", "AlmostSolved")
                                                  and leak > tol.REDUCED_COST_TOL)):
