@@ -50,7 +50,7 @@ def test_a_stalled_membership_program_is_settled_by_the_simplex_method(monkeypat
 
 def test_a_solver_stopped_early_raises_solver_error_carrying_its_status(monkeypatch):
     patched_settings(monkeypatch, max_iter=1)
-    monkeypatch.setattr(solvers.factor_set, "_simplex", lambda pre, q: (
+    monkeypatch.setattr(solvers.factor_set, "simplex", lambda pre, q: (
         "MaxIterations", np.full(pre.A.shape[1], np.nan), np.full(pre.A.shape[0], np.nan)))
     Z = nontrivial_cz()
     with pytest.raises(ss.SolverError, match="MaxIterations") as info:
@@ -79,7 +79,7 @@ def test_a_certified_value_bounds_the_exact_support_even_at_reduced_accuracy(mon
     exact = nontrivial_cz().support([1.0, 1.0, 0.0])
     patched_settings(monkeypatch, max_iter=5, reduced_tol_gap_abs=1e-2, reduced_tol_gap_rel=1e-2,
                      reduced_tol_feas=1e-2)
-    monkeypatch.setattr(solvers.factor_set, "_simplex", lambda pre, q: (  # no fallback settles it
+    monkeypatch.setattr(solvers.factor_set, "simplex", lambda pre, q: (  # no fallback settles it
         "MaxIterations", np.full(pre.A.shape[1], np.nan), np.full(pre.A.shape[0], np.nan)))
     assert nontrivial_cz().support([1.0, 1.0, 0.0], certified=True) >= exact
     with pytest.raises(ss.SolverError) as info:

@@ -205,7 +205,7 @@ class CZProgram:
         # With iterative refinement: without it, 2 in 1,500 members of random CZs with free factors
         # came out as non-members or AlmostSolved (t* a few 1e-9 above the margin).
         try:
-            sol = solve_lp(q, rows, r, m, rows.shape[0] - m, context, refine=True)
+            sol = solve_lp(q, rows, r, m, rows.shape[0] - m, context, refine=True, kind="membership")
             status, t = sol.status, float(sol.x[-1])
         except SolverError:
             status, t = "stalled", np.nan

@@ -40,7 +40,7 @@ from .. import tolerances as tol
 from . import clarabel_lp
 from .clarabel_lp import SolverError, _csc, _index_type, _zero_cost, solve_lp
 from .instances import cached_instance
-from .presolve import Presolved, presolve
+from .presolve import Presolved, presolve, project_free, simplex
 
 __all__ = ["FactorConstraints", "Maximized", "STACK_MAX_VARIABLES", "DENSE_PRESOLVE_MAX"]
 
@@ -93,14 +93,13 @@ class FactorConstraints:
     """
 
     def __init__(self, A, b: np.ndarray, h: np.ndarray):
-        self.A = _csc(A)  # canonical: `block` relies on sorted, unique row indices
+        self.A = _csc(A)  # canonical (sorted, unique row indices): the presolve scales its arrays
         self.b = np.asarray(b, dtype=float)
         self.h = np.asarray(h, dtype=float)
         self.ng = self.A.shape[1]
         self.nc = self.A.shape[0]
         self.finite = np.flatnonzero(np.isfinite(self.h))
         self.free = np.flatnonzero(~np.isfinite(self.h))
-        self._stacks: dict[int, tuple[sp.csc_matrix, np.ndarray]] = {}
         self._empty: bool | None = None
         self._phase_one: float | None = None
         self._pre: Presolved | None = None
@@ -143,48 +142,6 @@ class FactorConstraints:
 
             self._free_bound = (free_factor_bound(self.A, self.b, self.h),)
         return self._free_bound[0]
-
-    def block(self, k: int) -> tuple[sp.csc_matrix, np.ndarray]:
-        """Rows [kron(I,A); kron(I,E); kron(I,-E)] and right-hand sides for k stacked copies."""
-        cached = self._stacks.get(k)
-        if cached is not None:
-            return cached
-        # Assembled from index arrays: scipy's kron/vstack cost more than Clarabel's whole solve of a
-        # small CZ. One copy, column by column: A[:, j], then +1 in row nc + p and −1 in row
-        # nc + nf + p when j is the p-th factor with a finite bound.
-        A, fin = self.A, self.finite
-        nc, nf, ng = self.nc, fin.size, self.ng
-        a_count = np.diff(A.indptr)
-        col_nnz = a_count.copy()
-        col_nnz[fin] += 2
-        indptr = np.zeros(ng + 1, dtype=np.int64)
-        np.cumsum(col_nnz, out=indptr[1:])
-        nnz = int(indptr[-1])
-        a_dest = np.arange(A.nnz) + np.repeat(indptr[:-1] - A.indptr[:-1], a_count)
-        upper = indptr[1:][fin] - 2
-        rows = np.empty(nnz, dtype=np.int64)
-        rows[a_dest] = A.indices
-        rows[upper] = nc + np.arange(nf)
-        rows[upper + 1] = nc + nf + np.arange(nf)
-        data = np.empty(nnz)
-        data[a_dest] = A.data
-        data[upper] = 1.0
-        data[upper + 1] = -1.0
-        hf = self.h[fin]
-        rhs = np.concatenate([self.b, hf, hf])
-        if k > 1:  # copy i's equality, upper and lower rows follow those of the copies before it
-            step = np.where(rows < nc, nc, nf)
-            base = np.where(rows < nc, 0, np.where(rows < nc + nf, (k - 1) * nc, (k - 1) * (nc + nf)))
-            copies = np.arange(k)[:, None]
-            rows = (rows + base + step * copies).ravel()
-            data = np.tile(data, k)
-            indptr = np.append((indptr[:-1] + nnz * copies).ravel(), k * nnz)
-            rhs = np.concatenate([np.tile(self.b, k), np.tile(hf, k), np.tile(hf, k)])
-        itype = _index_type(k * max(nnz, nc + 2 * nf))
-        M = sp.csc_matrix((data, rows.astype(itype), indptr.astype(itype)),
-                          shape=(k * (nc + 2 * nf), k * ng))
-        self._stacks[k] = (M, rhs)
-        return M, rhs
 
     # -- solving -----------------------------------------------------------------------------------
     def _program(self, pre: Presolved) -> tuple[sp.csc_matrix, np.ndarray, list]:
@@ -231,7 +188,7 @@ class FactorConstraints:
         through the same independent check as any answer not certified by Clarabel.
         """
         if refine == "simplex":
-            return _simplex(pre, q)
+            return simplex(pre, q)
         if refine:  # a fresh instance: the fallback must not inherit the kept one's state
             M, rhs, cones = self._program(pre)
             solver = clarabel.DefaultSolver(_zero_cost(q.size), q, M, rhs, cones,
@@ -300,7 +257,7 @@ class FactorConstraints:
                 eta = -np.sign(q)  # every factor bounded (or cost-free): the box's vertex
                 return Maximized("optimal", pre.factors(eta[None], self.ng)[0], np.zeros(self.nc))
             if bounded:
-                q, lam0 = _project_free(pre, q)
+                q, lam0 = project_free(pre, q)
             name, eta, z = self._solve_on(pre, q, refine)
             z = z[:m]
             if name in _INFEASIBLE:
@@ -328,7 +285,7 @@ class FactorConstraints:
                 if not bounded:
                     return Maximized("unbounded", nan_xi, nan_lam)
                 # Bounded to tolerance: solve the objective with its free-factor part projected out.
-                q, lam0 = _project_free(pre, q)
+                q, lam0 = project_free(pre, q)
                 name, eta, z = self._solve_on(pre, q, refine)
                 z = z[:m]
                 if name in _INFEASIBLE:
@@ -500,38 +457,9 @@ class FactorConstraints:
             M = sp.vstack([sp.kron(eye, AF), sp.identity(w * nf), -sp.identity(w * nf)],
                           format="csc")
             rhs = np.concatenate([np.zeros(w * m), np.ones(2 * w * nf)])
-            sol = solve_lp(-gF[rows].reshape(-1), M, rhs, w * m, 2 * w * nf, context, refine=True)
+            sol = solve_lp(-gF[rows].reshape(-1), M, rhs, w * m, 2 * w * nf, context, refine=True,
+                           kind="recession")
             if sol.status != "optimal":
                 raise SolverError(sol.status, context, kind="recession")
             gains[rows] = np.einsum("ij,ij->i", gF[rows], sol.x.reshape(w, nf))
         return gains > tol.REDUCED_COST_TOL
-
-
-def _project_free(pre: Presolved, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(q + Âᵀλ₀ with its free entries set to zero, λ₀), λ₀ the least-squares solution of
-    Â_Fᵀλ₀ = −q_F: the same objective on {Âη = b̂} up to the constant and the residual on the free
-    factors, which the recession program found to be within tolerance."""
-    from scipy.sparse.linalg import lsqr
-
-    free = ~pre.bounded
-    lam0 = lsqr(sp.csr_matrix(pre.A[:, free].T), -q[free], atol=1e-15, btol=1e-15)[0]
-    shifted = q + pre.A.T @ lam0
-    shifted[free] = 0.0
-    return shifted, lam0
-
-
-def _simplex(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
-    """min qᵀη over the presolved program by HiGHS (SciPy): (status name, η, λ̂ in Clarabel's sign
-    convention q + Âᵀλ̂ = 0 on the free factors)."""
-    from scipy.optimize import linprog
-
-    m, p = pre.A.shape
-    bounds = np.where(pre.bounded[:, None], [[-1.0, 1.0]], [[-np.inf, np.inf]])
-    res = linprog(q, A_eq=pre.A if m else None, b_eq=pre.b if m else None, bounds=bounds,
-                  method="highs")
-    names = {0: "AlmostSolved", 1: "MaxIterations", 2: "PrimalInfeasible", 3: "DualInfeasible"}
-    name = names.get(res.status, "NumericalError")
-    if res.status != 0:
-        return name, np.full(p, np.nan), np.full(m, np.nan)
-    # HiGHS's marginals are ∂(min)/∂b_eq, i.e. q = Âᵀy + (bound duals): λ̂ = −y.
-    return name, np.asarray(res.x), -np.asarray(res.eqlin.marginals)

@@ -36,7 +36,7 @@ import scipy.sparse as sp
 from .. import tolerances as tol
 from ..linalg import independent_rows
 
-__all__ = ["Presolved", "presolve", "RUIZ_SWEEPS"]
+__all__ = ["Presolved", "presolve", "simplex", "project_free", "RUIZ_SWEEPS", "INDEPENDENT_RCOND"]
 
 #: Equilibration sweeps with free factors (each scales the free columns, then the rows holding only
 #: free factors, to unit ∞-norm); without free factors one row normalization is exact.
@@ -213,3 +213,34 @@ def _col_abs_max(M: sp.csc_matrix) -> np.ndarray:
     if M.nnz:
         out[nonempty] = np.maximum.reduceat(np.abs(M.data), M.indptr[:-1][nonempty])
     return out
+
+
+def simplex(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
+    """min qᵀη over the presolved program by HiGHS (SciPy): (status name, η, λ̂ in Clarabel's sign
+    convention q + Âᵀλ̂ = 0 on the free factors)."""
+    from scipy.optimize import linprog
+
+    m, p = pre.A.shape
+    bounds = np.where(pre.bounded[:, None], [[-1.0, 1.0]], [[-np.inf, np.inf]])
+    res = linprog(q, A_eq=pre.A if m else None, b_eq=pre.b if m else None, bounds=bounds,
+                  method="highs")
+    names = {0: "AlmostSolved", 1: "MaxIterations", 2: "PrimalInfeasible", 3: "DualInfeasible"}
+    name = names.get(res.status, "NumericalError")
+    if res.status != 0:
+        return name, np.full(p, np.nan), np.full(m, np.nan)
+    # HiGHS's marginals are ∂(min)/∂b_eq, i.e. q = Âᵀy + (bound duals): λ̂ = −y.
+    return name, np.asarray(res.x), -np.asarray(res.eqlin.marginals)
+
+
+def project_free(pre: Presolved, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(q + Âᵀλ₀ with its free entries set to zero, λ₀), λ₀ the least-squares solution of
+    Â_Fᵀλ₀ = −q_F: the same objective on {Âη = b̂} up to the constant and the residual on the free
+    factors, which the recession program found to be within tolerance."""
+    from scipy.sparse.linalg import lsqr
+
+    free = ~pre.bounded
+    lam0 = lsqr(sp.csr_matrix(pre.A[:, free].T), -q[free], atol=1e-15, btol=1e-15)[0]
+    shifted = q + pre.A.T @ lam0
+    shifted[free] = 0.0
+    return shifted, lam0
+
