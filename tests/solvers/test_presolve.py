@@ -94,3 +94,15 @@ def test_dependent_rows_make_no_difference_to_the_answers():
     D = np.random.default_rng(1).standard_normal((6, Z.dim))
     np.testing.assert_allclose(W.support_many(D), [highs_support(Z, d) for d in D], atol=1e-7)
     assert not W.is_empty()
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_members_of_a_factor_rescaled_set_are_accepted(seed):
+    Z = random_cz(seed)
+    rng = np.random.default_rng(200 + seed)
+    s = rng.choice([1e-12, 1e12], Z.ng)
+    W = ss.ConstrainedZonotope(Z.G * s, Z.c, A=Z.A * s, b=Z.b, h=Z.h / s)
+    for d in rng.standard_normal((3, Z.dim)):
+        boundary = Z.support_point(d)
+        assert W.contains(boundary)
+        assert not W.contains(boundary + 1e-3 * d / np.linalg.norm(d))
