@@ -8,8 +8,12 @@ import scipy.sparse as sp
 from scipy.optimize import linprog
 
 import setsmooth as ss
-from setsmooth.smoothers.trajectory import trajectory_set
 from setsmooth.solvers import certify
+
+try:  # the trajectory set moved below filters and smoothers (issue 6)
+    from setsmooth.trajectories import trajectory_set
+except ImportError:
+    from setsmooth.smoothers.trajectory import trajectory_set
 
 
 def random_system(rng: np.random.Generator) -> ss.LinearSystem:
