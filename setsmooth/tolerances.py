@@ -20,18 +20,29 @@ SOLVER_TOL = 1e-9
 #: primal feasibility) before it is returned; an answer failing the check raises ``SolverError``.
 SOLVER_CHECK_TOL = 1e-6
 
-#: Relative violation above which a set counts as empty: the optimum t* of the elastic program (every
-#: constraint relaxed by t, see ``solvers.conic``) on equilibrated data, relative to max(1, ‖b‖∞).
-#: Ten times the solver's accuracy, so that the solver's noise never empties a set; a set emptied by
-#: less is within the tolerance of a non-empty one and is solved as such.
-EMPTINESS_TOL = 1e-8
+#: A reduced-accuracy answer that passes the check above with a relative duality gap (and
+#: residuals) below this is used at once; a looser one is kept while the fallbacks (refinement, the
+#: fully presolved program, the simplex method) look for a tighter one.
+ACCURATE_GAP_TOL = 1e-8
 
 #: Relative margin used to decide membership ``contains`` when the caller gives no ``tol``.
 MEMBERSHIP_TOL = 1e-7
 
 #: Relative tolerance below which a reduced cost on an unbounded factor counts as zero, so that a
-#: weak-duality certificate stays finite (see ``solvers.certified_cz_support``).
+#: weak-duality certificate stays finite (see ``solvers.factor_set``).
 REDUCED_COST_TOL = 1e-7
+
+#: Relative violation above which a set counts as empty, on both paths: the optimum t* of the elastic
+#: phase-one program (every constraint relaxed by t) in equilibrated units, relative to 1 + ‖b̂‖∞. On
+#: the fast path min{t : |Âη − b̂| ≤ t, |η_B| ≤ 1} in the presolved units (rows of unit ∞-norm,
+#: bounded factors of unit bound; ``solvers.factor_set``), on the generic path the conic form's
+#: equilibrated rows (``solvers.conic``). Ten times the solver's accuracy, so that the verdict is not
+#: solver noise; a set emptied by less is within the tolerance of a non-empty one and solved as such.
+EMPTINESS_TOL = 1e-8
+
+#: Multipliers that will certify a support value should cancel the objective on free factors to
+#: this (presolved units); a solution leaving more is solved again with iterative refinement.
+CERTIFICATE_LEAK_TOL = 1e-11
 
 #: Relative tolerance of the rank decisions (null spaces, pseudo-inverses, recession directions).
 RANK_TOL = 1e-10

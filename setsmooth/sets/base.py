@@ -170,8 +170,21 @@ class ConvexSet(AlgebraHooks, ABC):
         return value
 
     # -- derived geometry ----------------------------------------------------------------------------
-    def interval_hull(self, *, path: str = "auto", certified: bool = False) -> "Box | ConvexSet":
+    def interval_hull(self, *, path: str = "auto",
+                      certified: bool | None = None) -> "Box | ConvexSet":
         """The tightest box containing the set (2·dim support values, one stacked program).
+
+        Parameters
+        ----------
+        path : {'auto', 'generic'}
+        certified : bool or None
+            None (default): certified where available, that is when the set flattens to a
+            constrained zonotope and ``path='auto'``: the box's faces are weak-duality bounds that
+            hold in floating point, so the box encloses every point of the set whatever the solver's
+            accuracy (falling back to the solver's values only where no sound bound exists: free
+            factors that are neither determined by bounded ones nor cancelled exactly). True:
+            certified or raise. False: the solver's values (accurate to its tolerance, not
+            enclosing).
 
         Returns
         -------
@@ -181,6 +194,8 @@ class ConvexSet(AlgebraHooks, ABC):
         from .box import Box
         from .empty import EmptySet
 
+        if certified is None and (self._check_path(path) != "auto" or self._flat_cz is None):
+            certified = False
         eye = np.eye(self.dim)
         values = self.support_many(np.vstack([eye, -eye]), path=path, certified=certified)
         hi, lo = values[: self.dim], -values[self.dim:]
@@ -188,10 +203,11 @@ class ConvexSet(AlgebraHooks, ABC):
             return EmptySet(self.dim)
         return Box._trusted(lo, np.maximum(hi, lo))
 
-    def diameter(self, *, path: str = "auto", certified: bool = False) -> float:
+    def diameter(self, *, path: str = "auto", certified: bool | None = None) -> float:
         """∞-norm diameter sup_{s,s'∈S} ‖s − s'‖∞: the widest edge of the interval hull.
 
-        Returns ``-inf`` for the empty set (the supremum over no pairs) and ``inf`` when unbounded.
+        ``certified`` as in `interval_hull` (certified where available by default). Returns
+        ``-inf`` for the empty set (the supremum over no pairs) and ``inf`` when unbounded.
         """
         hull = self.interval_hull(path=path, certified=certified)
         if hull.is_empty():

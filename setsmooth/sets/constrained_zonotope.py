@@ -23,7 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .._validation import as_matrix, as_vector, real_array
-from ..solvers import CZProgram, FactorConstraints
+from ..solvers import CZProgram, FactorConstraints, SupportSolution
 from . import _matrices as mx
 from .base import ConvexSet
 
@@ -153,6 +153,39 @@ class ConstrainedZonotope(ConvexSet):
         if self.nc == 0:
             return self._unconstrained_support(D)
         return self._program.support(D, certified)
+
+    def support_solution(self, d: Any) -> SupportSolution:
+        """The support value of direction ``d`` with its maximizer, factor vector and multipliers.
+
+        Parameters
+        ----------
+        d : array_like, shape (dim,)
+
+        Returns
+        -------
+        SupportSolution
+            ``value`` = h_Z(d), ``point`` = Gξ + c attaining it, ``factors`` = ξ (with Aξ = b,
+            |ξ| ≤ h), ``multipliers`` = λ of Aξ = b (shape (nc,); the dual solution of the fast
+            path's LP, for the original rows). NaN arrays where the value is infinite.
+
+        Examples
+        --------
+        >>> import numpy as np, setsmooth as ss
+        >>> Z = ss.ConstrainedZonotope(np.eye(2), np.zeros(2), A=[[1.0, 1.0]], b=[1.0])
+        >>> sol = Z.support_solution([1.0, 0.0])
+        >>> round(sol.value, 6), np.round(sol.factors, 6).tolist()
+        (1.0, [1.0, 0.0])
+        """
+        d = as_vector(d, "d", self.dim)
+        if self.nc == 0:
+            values, points = self._unconstrained_support(d[None, :])
+            g = np.asarray(self.G.T @ d).reshape(-1)
+            with np.errstate(invalid="ignore"):
+                xi = np.where(g == 0.0, 0.0, np.sign(g) * self.h)
+            if not np.isfinite(values[0]):
+                xi = np.full(self.ng, np.nan)
+            return SupportSolution(float(values[0]), points[0], xi, np.zeros(0))
+        return self._program.solutions(d[None, :])[0]
 
     def _unconstrained_support(self, D: np.ndarray):
         # h_Z(d) = dᵀc + Σ_j h_j |(Gᵀd)_j|, with 0·∞ = 0 for factors the direction does not see.

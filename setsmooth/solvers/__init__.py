@@ -1,8 +1,10 @@
 """Every convex program in setsmooth is solved in this package: the one door to the solvers.
 
 * `clarabel_lp`: the Clarabel adapter, its settings, and the status policy (`SolverError`).
-* `factor_set`: the **fast path** for constrained zonotopes: the factor set {ξ : Aξ = b, |ξ| ≤ h} set up
-  in Clarabel once, one sparse LP per direction (`FactorConstraints`, `CZProgram`).
+* `factor_set`: the **fast path** for constrained zonotopes: the factor set {ξ : Aξ = b, |ξ| ≤ h},
+  presolved (`presolve`) and set up in Clarabel once per thread, one sparse LP per direction, emptiness
+  by an elastic phase-one program (`FactorConstraints`); `cz_program`: the support, certificate and
+  membership programs of one CZ (`CZProgram`); `certify`: floating-point-sound weak-duality bounds.
 * `generic`: the **generic path** for any set: its CVXPY constraints with the direction as a
   ``cp.Parameter``, compiled once per program (`GenericProgram`), and the Chebyshev ball of an
   H-polytope.
@@ -16,10 +18,12 @@ The two paths give the same answers; the tests run both on the same sets and com
 """
 
 from .clarabel_lp import LPSolution, SolverError, solve_lp
-from .factor_set import STACK_MAX_VARIABLES, CZProgram, FactorConstraints
 from .closest import closest_point
 from .conic import ConicForm
+from .cz_program import CZProgram, SupportSolution
+from .factor_set import STACK_MAX_VARIABLES, FactorConstraints
 from .generic import GenericProgram, chebyshev_ball
 
 __all__ = ["SolverError", "LPSolution", "solve_lp", "FactorConstraints", "CZProgram",
-           "STACK_MAX_VARIABLES", "GenericProgram", "chebyshev_ball", "ConicForm", "closest_point"]
+           "STACK_MAX_VARIABLES", "SupportSolution", "GenericProgram", "chebyshev_ball", "ConicForm",
+           "closest_point"]

@@ -104,9 +104,10 @@ class LPSolution:
 
 
 def solve_lp(q: np.ndarray, A: sp.csc_matrix, b: np.ndarray, n_eq: int, n_ineq: int,
-             context: str, refine: bool = False) -> LPSolution:
+             context: str, refine: bool = False, kind: str | None = None) -> LPSolution:
     """Minimize ``qᵀx`` subject to the first ``n_eq`` rows of ``Ax = b`` and the rest ``Ax ≤ b``
-    (``refine``: with Clarabel's iterative refinement, see `settings`)."""
+    (``refine``: with Clarabel's iterative refinement, see `settings`; ``kind``: the program kind
+    carried by a `SolverError`)."""
     cones = []
     if n_eq:
         cones.append(clarabel.ZeroConeT(n_eq))
@@ -118,10 +119,11 @@ def solve_lp(q: np.ndarray, A: sp.csc_matrix, b: np.ndarray, n_eq: int, n_ineq: 
         status = "optimal" if not np.any(q) else "unbounded"
         return LPSolution(status, x, np.zeros(0), 0.0)
     solver = clarabel.DefaultSolver(_zero_cost(nvar), q, A, b, cones, settings(refine=refine))
-    return _lp_solution(solver.solve(), n_eq, context)
+    return _lp_solution(solver.solve(), n_eq, context, kind=kind)
 
 
-def _lp_solution(sol, n_eq: int, context: str, solve_time: float | None = None) -> LPSolution:
+def _lp_solution(sol, n_eq: int, context: str, solve_time: float | None = None,
+                 kind: str | None = None) -> LPSolution:
     """Translate a Clarabel solution into an `LPSolution` (status policy in the module docstring);
     ``solve_time`` replaces Clarabel's own when given."""
     name = str(sol.status).split(".")[-1]
@@ -134,7 +136,7 @@ def _lp_solution(sol, n_eq: int, context: str, solve_time: float | None = None) 
     elif name in _UNBOUNDED:
         status = "unbounded"
     else:
-        raise SolverError(name, context)
+        raise SolverError(name, context, kind=kind)
     return LPSolution(status, np.asarray(sol.x), np.asarray(sol.z)[:n_eq],
                       float(sol.solve_time) if solve_time is None else solve_time)
 

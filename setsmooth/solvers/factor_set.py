@@ -1,26 +1,36 @@
-"""The fast path: the factor set {ξ : Aξ = b, |ξ| ≤ h} of a constrained zonotope and its support LPs.
+"""The fast path's factor set {ξ : Aξ = b, |ξ| ≤ h}: presolved, solved, emptiness and recession.
 
-The fast path for constrained zonotopes Z(G, c, A, b, h) substitutes ``x = Gξ + c`` out and hands
-Clarabel the linear program
+The fast path for constrained zonotopes Z(G, c, A, b, h) substitutes ``x = Gξ + c`` out, so every query
+is a linear program over the factor set. `FactorConstraints` owns that set: it presolves it once
+(`presolve`: fixed factors and zero rows dropped, bounds scaled out, rows and free factors
+equilibrated, dependent rows dropped for small programs) and maximizes objectives over it, one LP per
+objective on a Clarabel instance that only has its objective replaced. The instance lives in the
+per-thread, bounded cache of `instances.cached_instance`, never on the object, so a factor set can be
+queried from several threads and pickled.
 
-    maximize (Gᵀd)ᵀξ   subject to   Aξ = b,  -h ≤ ξ ≤ h   (rows with infinite h omitted)
+Status policy (`maximize`): 'Solved' is taken; any other status is settled by a verified fallback
+before anything is raised: a fresh solve with iterative refinement, then, if the presolve had not looked
+for dependent rows, the fully presolved program, and last HiGHS's simplex method (SciPy) on it. A
+reduced-accuracy answer ('AlmostSolved', and every simplex answer) is used only after an independent
+check in the presolved units: the primal point's residual and bound overshoot and its gap to the
+always-valid weak-duality bound, within ``SOLVER_CHECK_TOL`` of the scale; one with a gap above
+``ACCURATE_GAP_TOL`` is kept while the later fallbacks look for a tighter one. Infeasible statuses are
+settled by the emptiness verdict below; unbounded ones, and solutions whose multipliers do not cancel
+the objective on free factors, by a recession program.
 
-as sparse matrices. The factor set is set up in Clarabel once (equilibration, KKT assembly, symbolic
-factorization) and every direction only replaces the objective. One LP per direction on that instance
-measured faster than stacking the directions block-diagonally into one LP, whose single step length
-holds every block back (1.6× at ng = 100, nc = 40, 20 directions).
-
-A reduced-accuracy status is accepted only where the returned number is a weak-duality bound that is
-valid whatever the solver's accuracy (``certified=True``), or verified by us to ``SOLVER_CHECK_TOL``.
-
-Unbounded directions are not left to the solver's dual-infeasibility detection, which stalls or even
-reports an arbitrary 'optimum' on LPs with free variables: with free factors (h = ∞), boundedness is
-decided by a recession program, which is feasible and bounded.
+Emptiness (`is_empty`): a feasibility solve on the kept instance whose point satisfies the rows to
+``EMPTINESS_TOL`` proves non-emptiness (the common case, at the cost of one re-solve); anything else
+is decided by an elastic phase-one program, min{t : |Âη − b̂| ≤ t, |η_B| ≤ 1},
+which is feasible and bounded whatever the data, so an interior-point method settles it even on flat
+or nearly empty sets; the set is empty iff t* > ``EMPTINESS_TOL`` in the equilibrated units (every
+presolved row has unit ∞-norm and every bounded factor unit bound). A support LP that reports
+infeasibility on a set this program calls non-empty is solved on the set relaxed by t*
+(``|Âη − b̂| ≤ t* + EMPTINESS_TOL``), an outer value, so the two verdicts never contradict each other.
 """
 
 from __future__ import annotations
 
-import time
+from dataclasses import dataclass
 
 import clarabel
 import numpy as np
@@ -28,365 +38,428 @@ import scipy.sparse as sp
 
 from .. import tolerances as tol
 from . import clarabel_lp
-from .clarabel_lp import (_ALMOST_SOLVED, LPSolution, SolverError, _csc, _index_type, _lp_solution,
-                          _zero_cost, solve_lp)
+from .clarabel_lp import SolverError, _csc, _index_type, _zero_cost, solve_lp
 from .instances import cached_instance
+from .presolve import Presolved, presolve, project_free, simplex
 
-__all__ = ["FactorConstraints", "CZProgram", "STACK_MAX_VARIABLES"]
+__all__ = ["FactorConstraints", "Maximized", "STACK_MAX_VARIABLES", "DENSE_PRESOLVE_MAX"]
 
 
 #: The recession programs that decide unbounded directions stack their objectives into one LP while
-#: it has at most this many variables, and go one objective at a time beyond (support LPs are never
-#: stacked: one LP per direction on a shared Clarabel instance measured faster).
+#: it has at most this many variables, and go one objective at a time beyond.
 STACK_MAX_VARIABLES = 3000
+
+_INFEASIBLE = ("PrimalInfeasible", "AlmostPrimalInfeasible")
+_UNBOUNDED = ("DualInfeasible", "AlmostDualInfeasible")
+
+#: Objective entries below NOISE_FACTOR·eps·(|G|ᵀ|d|)_j are the rounding noise of an exact zero
+#: (a direction orthogonal to the free factors' lineality, computed in floating point).
+NOISE_FACTOR = 64
+
+#: Linearly dependent rows are looked for up front (dense rank-revealing QR) when nc·ng is at most
+#: this; larger (sparse, trajectory-sized) programs look for them only after a failed solve.
+DENSE_PRESOLVE_MAX = 5_000
+
+
+@dataclass(frozen=True)
+class Maximized:
+    """One objective maximized over the factor set.
+
+    Attributes
+    ----------
+    status : str
+        'optimal' (Solved, or a reduced-accuracy answer that passed the independent check),
+        'infeasible' (the factor set is empty), 'unbounded', 'relaxed' (the factor set is non-empty
+        by the phase-one verdict but its support LP is infeasible: solved on the set relaxed by the
+        phase-one residual, an outer value) or 'unverified' (only on request: no attempt settled the
+        program; ``lam`` is still good for a weak-duality certificate).
+    xi : ndarray, shape (ng,)
+        The maximizer (original factors), NaN unless solved.
+    lam : ndarray, shape (nc,)
+        Multipliers of Aξ = b for the original rows (zero on dropped rows), NaN unless solved.
+    """
+
+    status: str
+    xi: np.ndarray
+    lam: np.ndarray
 
 
 class FactorConstraints:
-    """The factor set {ξ : Aξ = b, -h ≤ ξ ≤ h} of a constrained zonotope, assembled for Clarabel.
+    """The factor set {ξ : Aξ = b, -h ≤ ξ ≤ h} of a constrained zonotope, presolved for Clarabel.
 
     It depends on (A, b, h) only, so every linear map, translation and projection of a CZ shares one
-    instance, and with it the cached constraint blocks and the emptiness verdict.
-
-    Notes
-    -----
-    One copy of the factor set is set up in Clarabel on a thread's first query and kept in that
-    thread's instance cache (`solvers.instances`): every later objective (direction, map,
-    projection, emptiness) reuses it. The blocks ``kron(I_k, A)`` and the
-    finite-bound rows of ``k`` stacked copies are cached per ``k``.
+    instance, and with it the presolve, the emptiness verdict and the Clarabel instance (kept per
+    thread by `instances.cached_instance`).
     """
 
     def __init__(self, A, b: np.ndarray, h: np.ndarray):
-        self.A = _csc(A)  # canonical: `block` relies on sorted, unique row indices
-        self.b = b
-        self.h = h
+        self.A = _csc(A)  # canonical (sorted, unique row indices): the presolve scales its arrays
+        self.b = np.asarray(b, dtype=float)
+        self.h = np.asarray(h, dtype=float)
         self.ng = self.A.shape[1]
         self.nc = self.A.shape[0]
-        self.finite = np.flatnonzero(np.isfinite(h))
-        self.free = np.flatnonzero(~np.isfinite(h))
-        self._stacks: dict[int, tuple[sp.csc_matrix, np.ndarray]] = {}
+        self.finite = np.flatnonzero(np.isfinite(self.h))
+        self.free = np.flatnonzero(~np.isfinite(self.h))
         self._empty: bool | None = None
+        self._phase_one: float | None = None
+        self._pre: Presolved | None = None
+        self._pre_full: Presolved | None = None
+        self._free_bound: tuple[float | None] | None = None
 
-    def block(self, k: int) -> tuple[sp.csc_matrix, np.ndarray]:
-        """Rows [kron(I,A); kron(I,E); kron(I,-E)] and right-hand sides for k stacked copies."""
-        cached = self._stacks.get(k)
-        if cached is not None:
-            return cached
-        # Assembled from index arrays: scipy's kron/vstack cost more than Clarabel's whole solve of a
-        # small CZ. One copy, column by column: A[:, j], then +1 in row nc + p and −1 in row
-        # nc + nf + p when j is the p-th factor with a finite bound.
-        A, fin = self.A, self.finite
-        nc, nf, ng = self.nc, fin.size, self.ng
+    @property
+    def _nan(self) -> tuple[np.ndarray, np.ndarray]:
+        """(ξ, λ) filled with NaN: the factors and multipliers of an infinite value (read-only)."""
+        nan = self.__dict__.get("_nan_cache")
+        if nan is None:
+            nan = (np.full(self.ng, np.nan), np.full(self.nc, np.nan))
+            for a in nan:
+                a.flags.writeable = False
+            self.__dict__["_nan_cache"] = nan
+        return nan
+
+    # -- presolve ----------------------------------------------------------------------------------
+    @property
+    def presolved(self) -> Presolved:
+        """The presolved program (dependent rows dropped only for small programs)."""
+        if self._pre is None:
+            small = self.nc * self.ng <= DENSE_PRESOLVE_MAX
+            self._pre = presolve(self.A, self.b, self.h, dependent=small)
+            if small:
+                self._pre_full = self._pre
+        return self._pre
+
+    @property
+    def fully_presolved(self) -> Presolved:
+        """The presolved program with dependent rows dropped whatever its size (fallback)."""
+        if self._pre_full is None:
+            self._pre_full = presolve(self.A, self.b, self.h, dependent=True)
+        return self._pre_full
+
+    def free_bound(self) -> float | None:
+        """β ≥ ‖ξ_F‖∞ on the free factors (`certify.free_factor_bound`; cached), or None."""
+        if self._free_bound is None:
+            from .certify import free_factor_bound
+
+            self._free_bound = (free_factor_bound(self.A, self.b, self.h),)
+        return self._free_bound[0]
+
+    # -- solving -----------------------------------------------------------------------------------
+    def _program(self, pre: Presolved) -> tuple[sp.csc_matrix, np.ndarray, list]:
+        """Rows [Â; I_B; −I_B], right-hand sides [b̂; 1; 1] and cones of the presolved program."""
+        m, p = pre.A.shape
+        bcols = np.flatnonzero(pre.bounded)
+        nb = bcols.size
+        # Assembled from index arrays, column by column (Â[:, j], then +1 in row m + i and −1 in row
+        # m + nb + i when j is the i-th bounded factor): scipy's vstack costs more than a small solve.
+        A = pre.A
         a_count = np.diff(A.indptr)
-        col_nnz = a_count.copy()
-        col_nnz[fin] += 2
-        indptr = np.zeros(ng + 1, dtype=np.int64)
+        col_nnz = a_count + 2 * pre.bounded
+        indptr = np.zeros(p + 1, dtype=np.int64)
         np.cumsum(col_nnz, out=indptr[1:])
-        nnz = int(indptr[-1])
         a_dest = np.arange(A.nnz) + np.repeat(indptr[:-1] - A.indptr[:-1], a_count)
-        upper = indptr[1:][fin] - 2
-        rows = np.empty(nnz, dtype=np.int64)
-        rows[a_dest] = A.indices
-        rows[upper] = nc + np.arange(nf)
-        rows[upper + 1] = nc + nf + np.arange(nf)
-        data = np.empty(nnz)
-        data[a_dest] = A.data
-        data[upper] = 1.0
-        data[upper + 1] = -1.0
-        hf = self.h[fin]
-        rhs = np.concatenate([self.b, hf, hf])
-        if k > 1:  # copy i's equality, upper and lower rows follow those of the copies before it
-            step = np.where(rows < nc, nc, nf)
-            base = np.where(rows < nc, 0, np.where(rows < nc + nf, (k - 1) * nc, (k - 1) * (nc + nf)))
-            copies = np.arange(k)[:, None]
-            rows = (rows + base + step * copies).ravel()
-            data = np.tile(data, k)
-            indptr = np.append((indptr[:-1] + nnz * copies).ravel(), k * nnz)
-            rhs = np.concatenate([np.tile(self.b, k), np.tile(hf, k), np.tile(hf, k)])
-        itype = _index_type(k * max(nnz, nc + 2 * nf))
-        M = sp.csc_matrix((data, rows.astype(itype), indptr.astype(itype)),
-                          shape=(k * (nc + 2 * nf), k * ng))
-        self._stacks[k] = (M, rhs)
-        return M, rhs
+        upper = indptr[1:][bcols] - 2
+        rows = np.empty(int(indptr[-1]), dtype=np.int64)
+        data = np.empty(int(indptr[-1]))
+        rows[a_dest], data[a_dest] = A.indices, A.data
+        rows[upper], data[upper] = m + np.arange(nb), 1.0
+        rows[upper + 1], data[upper + 1] = m + nb + np.arange(nb), -1.0
+        itype = _index_type(max(int(indptr[-1]), m + 2 * nb))
+        M = sp.csc_matrix((data, rows.astype(itype), indptr.astype(itype)), shape=(m + 2 * nb, p))
+        rhs = np.concatenate([pre.b, np.ones(2 * nb)])
+        cones = ([clarabel.ZeroConeT(m)] if m else []) + ([clarabel.NonnegativeConeT(2 * nb)]
+                                                          if nb else [])
+        return M, rhs, cones
 
-    def solve(self, Q: np.ndarray, context: str) -> LPSolution:
-        """Minimize Σ_i Q_iᵀξ_i over k stacked copies of the factor set (Q has shape (k, ng)).
+    def _instance(self, pre: Presolved):
+        """This thread's Clarabel instance of the presolved program (objective replaced per solve)."""
+        def build():
+            M, rhs, cones = self._program(pre)
+            p = pre.A.shape[1]
+            return clarabel.DefaultSolver(_zero_cost(p), np.zeros(p), M, rhs, cones,
+                                          clarabel_lp.settings())
+        return cached_instance(self, ("maximize", id(pre)), build)
 
-        One copy (k = 1) is solved on the factor set's kept Clarabel instance, which only has its
-        objective replaced.
+    def _solve_on(self, pre: Presolved, q: np.ndarray, refine: bool | str):
+        """Minimize qᵀη over the presolved program: (status name, η, ẑ of the rows).
+
+        ``refine``: False on the kept instance, True on a fresh one with iterative refinement,
+        'simplex' by HiGHS's simplex (SciPy), the last resort on LPs where the interior-point
+        method stops at reduced accuracy; its optimum is reported as 'AlmostSolved' so that it goes
+        through the same independent check as any answer not certified by Clarabel.
         """
-        k = Q.shape[0]
-        nf = self.finite.size
-        if k > 1 or self.nc + nf == 0:
-            M, rhs = self.block(k)
-            return solve_lp(Q.reshape(-1), M, rhs, k * self.nc, 2 * k * nf, context)
-        q = Q.reshape(-1)
-        built = []
-
-        def build() -> clarabel.DefaultSolver:
-            # Kept per thread (solvers.instances): a Clarabel instance re-solved by two threads at
-            # once fails ('Already borrowed'), and it cannot be pickled.
-            M, rhs = self.block(1)
-            cones = [clarabel.ZeroConeT(self.nc)] if self.nc else []
-            if nf:
-                cones.append(clarabel.NonnegativeConeT(2 * nf))
-            built.append(True)
-            return clarabel.DefaultSolver(_zero_cost(self.ng), q, M, rhs, cones, clarabel_lp.settings())
-
-        solver = cached_instance(self, "factor set", build)
-        if built:
-            return _lp_solution(solver.solve(), self.nc, context)
-        solver.update(q=q)
-        start = time.perf_counter()
+        if refine == "simplex":
+            return simplex(pre, q)
+        if refine:  # a fresh instance: the fallback must not inherit the kept one's state
+            M, rhs, cones = self._program(pre)
+            solver = clarabel.DefaultSolver(_zero_cost(q.size), q, M, rhs, cones,
+                                            clarabel_lp.settings(refine=True))
+        else:
+            solver = self._instance(pre)
+            solver.update(q=q)
         sol = solver.solve()
-        # Clarabel's solve_time of a re-solve counts the set-up again (and a timer that grows with
-        # every solve), so a re-solve is timed by its own call.
-        return _lp_solution(sol, self.nc, context, time.perf_counter() - start)
+        name = str(sol.status).split(".")[-1]
+        return name, np.asarray(sol.x), np.asarray(sol.z)
 
-    def unbounded_objectives(self, g: np.ndarray, scale: np.ndarray, context: str) -> np.ndarray:
-        """Which objectives grow without bound along the recession cone of the factor set.
+    def maximize(self, g: np.ndarray, context: str, kind: str = "support", *,
+                 magnitude: np.ndarray | None = None, unverified: bool = False,
+                 tight: bool = False) -> Maximized:
+        """Maximize gᵀξ over the factor set (status policy in the module docstring).
 
-        The recession cone is {ξ : Aξ = 0, ξ_j = 0 where h_j < ∞}, so only the free factors matter:
-        ``g`` has one row per objective, restricted to them (shape (k, number of free factors)). An
-        objective is unbounded on a non-empty factor set exactly when the gain
-        max{gᵢᵀη : A_F η = 0, |η| ≤ 1} = min_λ ‖gᵢ − A_Fᵀλ‖₁ is positive, that is when no multiplier
-        cancels the reduced cost on the free factors (the condition `CZProgram._dual_bound` checks).
-        This program is feasible (η = 0) and bounded, so Clarabel decides it reliably, unlike the dual
-        infeasibility of the support LP, on which it may stall. Gains above ``REDUCED_COST_TOL·scale``
-        count as positive.
+        Parameters
+        ----------
+        g : ndarray, shape (ng,)
+            The objective on the original factors.
+        context, kind : str
+            For a `SolverError`.
+        magnitude : ndarray, shape (ng,), optional
+            |G|ᵀ|d| when g = Gᵀd was computed in floating point: entries of g below its rounding
+            level (γ_{n+1} times this, with a margin) are rounding noise of an exact zero and are
+            taken as zero, and boundedness is judged relative to this magnitude, not to g's own.
+        unverified : bool
+            Return the last attempt's point and multipliers with status 'unverified' instead of
+            raising when no attempt is settled (for weak-duality certificates, valid for any λ).
+        tight : bool
+            The multipliers will certify a bound: with free factors, a solution whose multipliers
+            leave more than ``CERTIFICATE_LEAK_TOL`` of the objective on them is solved again with
+            iterative refinement (the least-squares correction of a loose λ loosens the bound).
+
+        Raises
+        ------
+        SolverError
+            When neither the kept instance nor the fallbacks settle the program.
         """
-        k, nf = g.shape
-        AF = self.A[:, self.free]
+        nan_xi, nan_lam = self._nan
+        if magnitude is not None:
+            g = np.where(np.abs(g) <= NOISE_FACTOR * np.finfo(float).eps * magnitude, 0.0, g)
+        else:
+            magnitude = np.abs(g)
+        first = self.presolved
+        attempts = [(first, False), (first, True)]
+        if not first.dependent_checked:
+            attempts.append((None, True))  # the fully presolved program, built only if needed
+        attempts.append((None, "simplex"))
+        last = "Unknown"
+        best: tuple[float, Maximized] | None = None  # the tightest verified reduced-accuracy answer
+        rough: Maximized | None = None  # the last unverified one (for certificates only)
+        bounded = None  # the recession program's verdict on g, computed at most once
+        for pre, refine in attempts:
+            pre = self.fully_presolved if pre is None else pre
+            if pre.empty:
+                self._empty = True
+                return Maximized("infeasible", nan_xi, nan_lam)
+            m, p = pre.A.shape
+            ghat = pre.objective(g[None, :])[0]
+            sigma = float(np.abs(ghat).max(initial=0.0)) or 1.0
+            q, lam0 = -ghat / sigma, np.zeros(m)
+            if p == 0 or m + np.count_nonzero(pre.bounded) == 0:
+                if np.any(q[~pre.bounded]):
+                    return Maximized("unbounded", nan_xi, nan_lam)
+                eta = -np.sign(q)  # every factor bounded (or cost-free): the box's vertex
+                return Maximized("optimal", pre.factors(eta[None], self.ng)[0], np.zeros(self.nc))
+            if bounded:
+                q, lam0 = project_free(pre, q)
+            name, eta, z = self._solve_on(pre, q, refine)
+            z = z[:m]
+            if name in _INFEASIBLE:
+                if self.is_empty():
+                    return Maximized("infeasible", nan_xi, nan_lam)
+                return self._relaxed(pre, q, sigma, lam0)
+            leak = pre.free_residual(q, z)
+            if name == "Solved" and refine is False and leak > (
+                    tol.CERTIFICATE_LEAK_TOL if tight else tol.REDUCED_COST_TOL):
+                # Multipliers that leave part of the objective on the free factors: refined first
+                # (cheaper than the recession program, and a certificate needs them tight).
+                again = self._solve_on(pre, q, True)
+                again_leak = pre.free_residual(q, again[2][:m])
+                if again[0] == "Solved" and again_leak < leak:
+                    name, eta, z, leak = again[0], again[1], again[2][:m], again_leak
+            if pre.has_free and not bounded and (
+                    name in _UNBOUNDED or (name in ("Solved", "AlmostSolved")
+                                                 and leak > tol.REDUCED_COST_TOL)):
+                # Unbounded, or the solver's 'optimum' of an unbounded direction (seen with huge
+                # primal points), or an objective that cancels on the free factors only up to
+                # rounding: the recession program decides.
+                if name in _UNBOUNDED and self.is_empty():
+                    return Maximized("infeasible", nan_xi, nan_lam)
+                bounded = not self.unbounded_objectives(g[None, :], context, magnitude[None, :])[0]
+                if not bounded:
+                    return Maximized("unbounded", nan_xi, nan_lam)
+                # Bounded to tolerance: solve the objective with its free-factor part projected out.
+                q, lam0 = project_free(pre, q)
+                name, eta, z = self._solve_on(pre, q, refine)
+                z = z[:m]
+                if name in _INFEASIBLE:
+                    if self.is_empty():
+                        return Maximized("infeasible", nan_xi, nan_lam)
+                    return self._relaxed(pre, q, sigma, lam0)
+                leak = pre.free_residual(q, z)
+            if leak <= tol.REDUCED_COST_TOL and name in ("Solved", "AlmostSolved"):
+                gap = 0.0 if name == "Solved" else self._checked_gap(pre, q, eta, z)
+                if gap is not None:
+                    answer = Maximized("optimal", pre.factors(eta[None], self.ng)[0],
+                                       pre.multipliers((z + lam0)[None], np.array([sigma]),
+                                                       self.nc)[0])
+                    if gap <= tol.ACCURATE_GAP_TOL:
+                        return answer
+                    # Verified but loose: kept, while the fallbacks try for a tighter answer.
+                    if best is None or gap < best[0]:
+                        best = (gap, answer)
+            last = name
+            if np.all(np.isfinite(z)) and np.all(np.isfinite(eta)) and name not in _UNBOUNDED:
+                rough = Maximized("unverified", pre.factors(eta[None], self.ng)[0],
+                                  pre.multipliers((z + lam0)[None], np.array([sigma]), self.nc)[0])
+        if best is not None:
+            return best[1]
+        if unverified and rough is not None:
+            return rough
+        if last not in _UNBOUNDED and not self.is_empty():
+            # The last resort on a set the phase-one program shows non-empty: the program relaxed
+            # by the phase-one residual (an outer value, within EMPTINESS_TOL of the set's rows).
+            return self._relaxed(pre, q, sigma, lam0)
+        raise SolverError(last, context, kind=kind)
+
+    @staticmethod
+    def _checked_gap(pre: Presolved, q: np.ndarray, eta: np.ndarray, z: np.ndarray) -> float | None:
+        """Independent check of a reduced-accuracy answer in the presolved units: primal residual,
+        bound overshoot and gap to the weak-duality bound b̂ᵀλ + Σ_B |ĝ − Âᵀλ|_j must be within
+        ``SOLVER_CHECK_TOL`` of the scale (rows and objective have unit ∞-norm, bounds are 1).
+        Returns the relative gap, or None when the check fails."""
+        lam = z  # Clarabel's stationarity q + Âᵀz = 0 on the free factors: λ̂ = z
+        reduced = -q - pre.A.T @ lam
+        if np.abs(reduced[~pre.bounded]).max(initial=0.0) > tol.REDUCED_COST_TOL:
+            return None
+        primal = float(-q @ eta)
+        dual = float(lam @ pre.b + np.abs(reduced[pre.bounded]).sum())
+        scale = 1.0 + np.abs(pre.b).max(initial=0.0) + np.abs(q).sum()
+        residual = np.abs(pre.A @ eta - pre.b).max(initial=0.0)
+        overshoot = np.max(np.abs(eta[pre.bounded]) - 1.0, initial=0.0)
+        worst = max(abs(dual - primal), residual, overshoot) / scale
+        return worst if worst <= tol.SOLVER_CHECK_TOL else None
+
+    def _relaxed(self, pre: Presolved, q: np.ndarray, sigma: float,
+                 lam0: np.ndarray) -> Maximized:
+        """Maximize over {η : |Âη − b̂| ≤ ρ, |η_B| ≤ 1} with ρ the phase-one residual plus
+        ``EMPTINESS_TOL``: the outer value for a set the phase-one program calls non-empty."""
+        m, p = pre.A.shape
+        rho = max(self._phase_one or 0.0, 0.0) + tol.EMPTINESS_TOL * (1.0 + np.abs(pre.b).max(
+            initial=0.0))
+        M, rhs, _ = self._program(pre)
+        rows = sp.vstack([pre.A, -pre.A, M[m:]], format="csc")
+        r = np.concatenate([pre.b + rho, rho - pre.b, rhs[m:]])
+        context = "computing a support function of a nearly empty constrained zonotope"
+        solver = clarabel.DefaultSolver(_zero_cost(p), q, rows, r,
+                                        [clarabel.NonnegativeConeT(rows.shape[0])],
+                                        clarabel_lp.settings(refine=True))
+        sol = solver.solve()
+        name = str(sol.status).split(".")[-1]
+        if name != "Solved":
+            raise SolverError(name, context, kind="support")
+        z = np.asarray(sol.z)
+        lam_hat = z[:m] - z[m:2 * m] + lam0  # Âᵀ(z⁺ − z⁻) cancels the objective as Âᵀλ̂ would
+        return Maximized("relaxed", pre.factors(np.asarray(sol.x)[None, :], self.ng)[0],
+                         pre.multipliers(lam_hat[None], np.array([sigma]), self.nc)[0])
+
+    # -- emptiness ---------------------------------------------------------------------------------
+    def is_empty(self) -> bool:
+        """Whether {ξ : Aξ = b, |ξ| ≤ h} is empty, by the elastic phase-one program (cached)."""
+        if self._empty is None:
+            self._empty = self._decide_empty()
+        return self._empty
+
+    def _decide_empty(self) -> bool:
+        if self.nc == 0:
+            return False  # ξ = 0 is feasible since h ≥ 0
+        context = "deciding emptiness of a constrained zonotope"
+        first = self.presolved
+        if first.empty:
+            return True
+        if first.A.shape[0] and first.A.shape[1]:
+            # The common case first, on the kept instance the support LPs reuse: a feasibility
+            # solve whose point satisfies the rows to the emptiness tolerance proves non-emptiness.
+            # Anything else (infeasible, stalled, inaccurate) is left to the phase-one program.
+            name, eta, _ = self._solve_on(first, np.zeros(first.A.shape[1]), False)
+            if name == "Solved":
+                eta[first.bounded] = np.clip(eta[first.bounded], -1.0, 1.0)
+                upper = float(np.abs(first.A @ eta - first.b).max(initial=0.0))
+                if upper <= tol.EMPTINESS_TOL * (1.0 + np.abs(first.b).max(initial=0.0)):
+                    self._phase_one = upper
+                    return False
+        attempts = [(first, False), (first, True)]
+        if not first.dependent_checked:
+            attempts.append((None, True))
+        last = "Unknown"
+        for pre, refine in attempts:
+            pre = self.fully_presolved if pre is None else pre
+            if pre.empty:
+                return True
+            m, p = pre.A.shape
+            if m == 0:
+                self._phase_one = 0.0
+                return False
+            limit = tol.EMPTINESS_TOL * (1.0 + np.abs(pre.b).max(initial=0.0))
+            M, rhs, _ = self._program(pre)
+            ones = sp.csc_matrix(np.ones((m, 1)))
+            nb2 = M.shape[0] - m
+            t_row = sp.csc_matrix(([-1.0], ([0], [p])), shape=(1, p + 1))
+            rows = sp.vstack([sp.hstack([pre.A, -ones]), sp.hstack([-pre.A, -ones]),
+                              sp.hstack([M[m:], sp.csc_matrix((nb2, 1))]), t_row], format="csc")
+            r = np.concatenate([pre.b, -pre.b, rhs[m:], [0.0]])
+            cost = np.zeros(p + 1)
+            cost[-1] = 1.0
+            solver = clarabel.DefaultSolver(_zero_cost(p + 1), cost, rows, r,
+                                            [clarabel.NonnegativeConeT(rows.shape[0])],
+                                            clarabel_lp.settings(refine=refine))
+            sol = solver.solve()
+            last = str(sol.status).split(".")[-1]
+            x = np.asarray(sol.x)
+            eta = x[:p].copy()
+            eta[pre.bounded] = np.clip(eta[pre.bounded], -1.0, 1.0)
+            upper = float(np.abs(pre.A @ eta - pre.b).max(initial=0.0))  # attained by a point
+            if last == "Solved" or (last == "AlmostSolved" and (upper <= limit
+                                                               or x[-1] > 10 * limit)):
+                self._phase_one = min(float(x[-1]), upper)
+                return bool(x[-1] > limit and upper > limit)
+        raise SolverError(last, context, kind="emptiness")
+
+    # -- recession ---------------------------------------------------------------------------------
+    def unbounded_objectives(self, g: np.ndarray, context: str,
+                             magnitude: np.ndarray | None = None) -> np.ndarray:
+        """Which objectives (rows of ``g``, shape (k, ng)) grow without bound on the factor set.
+
+        The recession cone is {ξ : Aξ = 0, ξ_j = 0 where h_j < ∞}, so only the free factors matter.
+        On the presolved program an objective ĝ is unbounded on a non-empty factor set exactly when
+        the gain max{ĝ_Fᵀη : Â_F η = 0, |η| ≤ 1} = min_λ ‖ĝ_F − Â_Fᵀλ‖₁ is positive, that is when no
+        multiplier cancels the reduced cost on the free factors. This program is feasible (η = 0) and
+        bounded, so Clarabel decides it reliably, unlike the dual infeasibility of the support LP.
+        Gains above ``REDUCED_COST_TOL·‖ĝ‖∞`` count as positive (the presolve made the free columns
+        unit-scaled, so this is scale-free), or, when the ``magnitude`` (shape of ``g``) of the
+        computation that produced g is given, above ``REDUCED_COST_TOL·max(1, ‖S·magnitude‖∞)``.
+        """
+        pre = self.fully_presolved if self._pre_full is not None else self.presolved
+        free = np.flatnonzero(~pre.bounded)
+        ghat = pre.objective(g)
+        k, nf = ghat.shape[0], free.size
+        if nf == 0:
+            return np.zeros(k, dtype=bool)
+        scale = np.abs(ghat if magnitude is None else pre.objective(magnitude)).max(axis=1,
+                                                                                      initial=0.0)
+        if magnitude is not None:  # absolute floor: a direction of norm 1e-16 sees no lineality
+            scale = np.maximum(scale, 1.0)
+        gF = ghat[:, free] / np.where(scale > 0, scale, 1.0)[:, None]
+        AF = pre.A[:, free]
+        m = AF.shape[0]
         gains = np.empty(k)
         width = max(k, 1) if k * nf <= STACK_MAX_VARIABLES else 1
         for start in range(0, k, width):
             rows = slice(start, start + width)
-            m = g[rows].shape[0]
-            eye = sp.identity(m, format="csc")
-            M = sp.vstack([sp.kron(eye, AF), sp.identity(m * nf), -sp.identity(m * nf)],
+            w = gF[rows].shape[0]
+            eye = sp.identity(w, format="csc")
+            M = sp.vstack([sp.kron(eye, AF), sp.identity(w * nf), -sp.identity(w * nf)],
                           format="csc")
-            rhs = np.concatenate([np.zeros(m * self.nc), np.ones(2 * m * nf)])
-            sol = solve_lp(-g[rows].reshape(-1), M, rhs, m * self.nc, 2 * m * nf, context)
+            rhs = np.concatenate([np.zeros(w * m), np.ones(2 * w * nf)])
+            sol = solve_lp(-gF[rows].reshape(-1), M, rhs, w * m, 2 * w * nf, context, refine=True,
+                           kind="recession")
             if sol.status != "optimal":
-                raise SolverError(sol.status, context)
-            gains[rows] = np.einsum("ij,ij->i", g[rows], sol.x.reshape(m, nf))
-        return gains > tol.REDUCED_COST_TOL * scale
-
-    def is_empty(self) -> bool:
-        """Feasibility of {ξ : Aξ = b, |ξ| ≤ h} (cached)."""
-        if self._empty is None:
-            if self.nc == 0:
-                self._empty = False  # ξ = 0 is feasible since h ≥ 0
-            else:
-                context = "deciding emptiness of a constrained zonotope"
-                try:
-                    sol = self.solve(np.zeros((1, self.ng)), context)
-                    if sol.status == "inaccurate":
-                        raise SolverError(_ALMOST_SOLVED, context)
-                    self._empty = sol.status == "infeasible"
-                except SolverError:
-                    if not self.free.size:
-                        raise
-                    # Free factors can stall the infeasibility certificate; the least ℓ1 residual
-                    # of Aξ = b over the bounds is a feasible, bounded program instead.
-                    self._empty = self._least_residual(context) > \
-                        tol.SOLVER_CHECK_TOL * (1.0 + np.abs(self.b).max(initial=0.0))
-        return self._empty
-
-    def _least_residual(self, context: str) -> float:
-        """min{‖Aξ − b‖₁ : |ξ_j| ≤ h_j}, as an LP in (ξ, t) with −t ≤ Aξ − b ≤ t."""
-        M, rhs = self.block(1)
-        bounds, hf = M[self.nc:], rhs[self.nc:]
-        eye = sp.identity(self.nc, format="csc")
-        rows = sp.vstack([sp.hstack([self.A, -eye]), sp.hstack([-self.A, -eye]),
-                          sp.hstack([bounds, sp.csc_matrix((bounds.shape[0], self.nc))])],
-                         format="csc")
-        q = np.concatenate([np.zeros(self.ng), np.ones(self.nc)])
-        sol = solve_lp(q, rows, np.concatenate([self.b, -self.b, hf]), 0, rows.shape[0], context)
-        if sol.status != "optimal":
-            raise SolverError(sol.status, context)
-        return float(q @ sol.x)
-
-
-class CZProgram:
-    """The support-function LP of one constrained zonotope Z(G, c, A, b, h).
-
-    Parameters
-    ----------
-    G : ndarray or sparse matrix, shape (n, ng)
-    c : ndarray, shape (n,)
-    factors : FactorConstraints
-        The shared factor set of the CZ. Arguments are trusted (validated by the caller).
-    """
-
-    def __init__(self, G, c: np.ndarray, factors: FactorConstraints):
-        self.G = sp.csc_matrix(G) if sp.issparse(G) else G
-        self.c = c
-        self.factors = factors
-        self.A, self.b, self.h = factors.A, factors.b, factors.h
-        self.ng, self.nc, self.finite = factors.ng, factors.nc, factors.finite
-        #: Clarabel's own solve time summed over the LPs of the last `support` call, seconds.
-        self.last_solve_time = 0.0
-
-    def _solve(self, Q: np.ndarray, context: str) -> LPSolution:
-        sol = self.factors.solve(Q, context)
-        self.last_solve_time += sol.solve_time
-        return sol
-
-    # -- queries -----------------------------------------------------------------------------------
-    def support(self, D: np.ndarray, certified: bool = False) -> tuple[np.ndarray, np.ndarray]:
-        """Support values and support points for every row of ``D``.
-
-        Returns
-        -------
-        values : ndarray, shape (k,)
-            ``h_Z(d)``; ``-inf`` when Z is empty, ``+inf`` along unbounded directions.
-        points : ndarray, shape (k, n)
-            A maximizer per direction (NaN where the value is infinite).
-        """
-        self.last_solve_time = 0.0
-        try:
-            return self._support_direct(D, certified)
-        except SolverError:
-            if not self.factors.free.size:
-                raise
-        # With free factors an unbounded direction makes the LP dual infeasible, which Clarabel
-        # often fails to certify (it stalls: InsufficientProgress, MaxIterations, AlmostSolved).
-        # Boundedness is then settled by the recession program and only bounded directions are
-        # solved, so that a failure among those is a genuine one.
-        return self._support_settling_recession(D, certified)
-
-    def _support_direct(self, D: np.ndarray, certified: bool) -> tuple[np.ndarray, np.ndarray]:
-        # One LP per direction on the factor set's Clarabel instance. Dual infeasibility alone does
-        # not prove feasibility, so emptiness is settled before an unbounded direction is believed.
-        k, n = D.shape
-        GtD = np.asarray((self.G.T @ D.T).T)  # (k, ng): objective of each direction
-        Q = -GtD
-        values = np.full(k, np.inf)
-        points = np.full((k, n), np.nan)
-        solved, xs, zs, status = [], [], [], "optimal"
-        for i in range(k):
-            sol = self._solve(Q[i:i + 1], "computing a support function of a constrained zonotope")
-            if sol.status == "infeasible" or (sol.status == "unbounded" and self.factors.is_empty()):
-                return np.full(k, -np.inf), np.full((k, n), np.nan)
-            if sol.status != "unbounded":
-                solved.append(i)
-                xs.append(sol.x)
-                zs.append(sol.z_eq)
-                status = "inaccurate" if sol.status == "inaccurate" else status
-        if solved:  # finished together, as one stacked solution
-            rows = slice(None) if len(solved) == k else np.array(solved)
-            together = LPSolution(status, np.concatenate(xs), np.concatenate(zs), 0.0)
-            values[rows], points[rows] = self._finish(D[rows], GtD[rows], together, certified)
-        return values, points
-
-    def _support_settling_recession(self, D: np.ndarray, certified: bool):
-        k, n = D.shape
-        values = np.full(k, np.inf)
-        points = np.full((k, n), np.nan)
-        if self.factors.is_empty():
-            return np.full(k, -np.inf), points
-        GtD = np.asarray((self.G.T @ D.T).T)
-        scale = 1.0 + np.abs(GtD).max(axis=1, initial=0.0)
-        unbounded = self.factors.unbounded_objectives(
-            GtD[:, self.factors.free], scale, "deciding which support functions are unbounded")
-        bounded = np.flatnonzero(~unbounded)
-        width = max(bounded.size, 1) if bounded.size * self.ng <= STACK_MAX_VARIABLES else 1
-        for start in range(0, bounded.size, width):
-            rows = bounded[start:start + width]
-            sol = self._solve(-GtD[rows], "computing support functions of a constrained zonotope")
-            if sol.status != "optimal" and sol.status != "inaccurate":
-                raise SolverError(sol.status, "computing support functions in directions shown to "
-                                  "be bounded on a non-empty constrained zonotope")
-            values[rows], points[rows] = self._finish(D[rows], GtD[rows], sol, certified)
-        return values, points
-
-    def _finish(self, D: np.ndarray, GtD: np.ndarray, sol: LPSolution, certified: bool):
-        """Values and points from a solved stacked LP.
-
-        ``certified`` returns the weak-duality bound. Otherwise the primal objective is returned; when
-        Clarabel only reached reduced accuracy ('AlmostSolved') that objective is accepted only if we
-        verify it: the primal point is feasible to ``SOLVER_CHECK_TOL`` and the always-valid dual bound
-        agrees with it to ``SOLVER_CHECK_TOL`` (both relative to the problem's scale). Else SolverError.
-        """
-        k = D.shape[0]
-        xi = sol.x.reshape(k, self.ng)
-        points = np.asarray((self.G @ xi.T).T) + self.c
-        offsets = D @ self.c
-        primal = np.einsum("ij,ij->i", GtD, xi)
-        if self.factors.free.size:
-            # A bounded direction has multipliers that cancel the objective on the free factors. A
-            # 'Solved' report without them is the solver's mistake on an unbounded direction (seen
-            # with huge or arbitrary primal points), which `support` settles by recession instead.
-            lam = sol.z_eq.reshape(k, self.nc)
-            free = self.factors.free
-            leak = np.abs(GtD[:, free] - np.asarray((self.A[:, free].T @ lam.T).T)).max(axis=1)
-            if np.any(leak > tol.REDUCED_COST_TOL * (1.0 + np.abs(GtD).max(axis=1, initial=0.0))):
-                raise SolverError("UncertifiableReducedCost", "computing support functions: no "
-                                  "multiplier cancels the objective on the free factors")
-        if not certified and sol.status == "optimal":
-            return offsets + primal, points
-        bound = self._dual_bound(GtD, sol.z_eq.reshape(k, self.nc))
-        if certified:
-            return offsets + bound, points
-        scale = 1.0 + np.abs(GtD).sum(axis=1) * np.max(self.h[self.finite], initial=1.0) \
-            + np.abs(self.b).max(initial=0.0)
-        residual = np.abs(np.asarray((self.A @ xi.T).T) - self.b).max(axis=1, initial=0.0)
-        overshoot = np.max(np.abs(xi[:, self.finite]) - self.h[self.finite], axis=1, initial=0.0)
-        checked = (np.abs(bound - primal) <= tol.SOLVER_CHECK_TOL * scale) \
-            & (residual <= tol.SOLVER_CHECK_TOL * scale) & (overshoot <= tol.SOLVER_CHECK_TOL * scale)
-        if not checked.all():
-            raise SolverError(_ALMOST_SOLVED, "computing support functions: the reduced-accuracy "
-                              "solution failed the duality-gap check (certified=True still returns a "
-                              "valid upper bound)")
-        return offsets + primal, points
-
-    def _dual_bound(self, GtD: np.ndarray, lam: np.ndarray) -> np.ndarray:
-        """Weak-duality bound bᵀλ + Σ_j h_j |(Gᵀd − Aᵀλ)_j| ≥ max{(Gᵀd)ᵀξ : Aξ=b, |ξ|≤h}.
-
-        Valid for every λ, so the returned bound encloses the true support value whatever the solver's
-        accuracy; it is finite only when the reduced cost vanishes on the unbounded factors.
-        """
-        reduced = GtD - np.asarray((self.A.T @ lam.T).T)
-        infinite = np.flatnonzero(~np.isfinite(self.h))
-        if infinite.size:
-            scale = 1.0 + np.abs(GtD).max(axis=1, initial=0.0)
-            leak = np.abs(reduced[:, infinite]).max(axis=1)
-            if np.any(leak > tol.REDUCED_COST_TOL * scale):
-                raise SolverError("UncertifiableReducedCost",
-                                  "certifying a support value: the reduced cost on an unbounded "
-                                  f"factor is {leak.max():.3g}, not zero")
-        hf = self.h[self.finite]
-        return lam @ self.b + np.abs(reduced[:, self.finite]) @ hf
-
-    def contains(self, p: np.ndarray, margin: float) -> bool:
-        """Whether some ξ with Aξ = b, |ξ| ≤ h has ‖Gξ + c − p‖∞ ≤ margin.
-
-        Decided by the distance program min{t : |Gξ + c − p| ≤ t, t ≥ margin, Aξ = b, |ξ| ≤ h},
-        which is feasible whenever Z is and bounded below, rather than by the feasibility of
-        ``t = margin``: an interior-point method certifies infeasibility less reliably
-        (AlmostPrimalInfeasible) than it solves. The explicit row t ≥ margin matters: without it a
-        member (distance 0) leaves no slack and Clarabel often stops at AlmostSolved. The optimum is
-        compared with ``margin`` up to the solver's accuracy.
-        """
-        context = "deciding membership in a constrained zonotope"
-        M, rhs = self.factors.block(1)
-        n = self.G.shape[0]
-        ones = sp.csc_matrix(np.ones((n, 1)))
-        t_row = sp.csc_matrix(([-1.0], ([0], [self.ng])), shape=(1, self.ng + 1))
-        # Equalities first (Aξ = b), then the bound rows, ±(Gξ + c − p) ≤ t and −t ≤ −margin.
-        rows = sp.vstack([sp.hstack([M, sp.csc_matrix((M.shape[0], 1))]),
-                          sp.hstack([self.G, -ones]), sp.hstack([-self.G, -ones]), t_row],
-                         format="csc")
-        r = np.concatenate([rhs, p - self.c, self.c - p, [-margin]])
-        q = np.zeros(self.ng + 1)
-        q[-1] = 1.0
-        # With iterative refinement: without it, 2 in 1,500 members of random CZs with free factors
-        # came out as non-members or AlmostSolved (t* a few 1e-9 above the margin).
-        sol = solve_lp(q, rows, r, self.nc, rows.shape[0] - self.nc, context, refine=True)
-        if sol.status == "infeasible":
-            return False
-        if sol.status != "optimal":
-            raise SolverError(_ALMOST_SOLVED if sol.status == "inaccurate" else sol.status, context)
-        scale = max(np.abs(p).max(initial=0.0), np.abs(self.c).max(initial=0.0),
-                    np.abs(self.b).max(initial=0.0))
-        return bool(sol.x[-1] <= margin + tol.scaled(tol.SOLVER_TOL, scale))
+                raise SolverError(sol.status, context, kind="recession")
+            gains[rows] = np.einsum("ij,ij->i", gF[rows], sol.x.reshape(w, nf))
+        return gains > tol.REDUCED_COST_TOL

@@ -1,0 +1,237 @@
+"""Support values certified in floating point: weak-duality bounds with rigorous rounding terms.
+
+For the factor set F = {ξ : Aξ = b, |ξ_j| ≤ h_j} and any multiplier λ, weak duality gives
+
+    max{gᵀξ : ξ ∈ F} = max{bᵀλ + (g − Aᵀλ)ᵀξ : ξ ∈ F} ≤ bᵀλ + Σ_j h_j |(g − Aᵀλ)_j|,
+
+so h_Z(d) ≤ dᵀc + bᵀλ + Σ_j h_j |r_j| with r = Gᵀd − Aᵀλ, whatever λ the solver returned. Two things
+stand between this and a number that is an upper bound in floating point:
+
+* **free factors** (h_j = ∞): the bound is finite only if r_j = 0 there, which no computed λ achieves
+  exactly. λ is first corrected by a least-squares step so that A_Fᵀλ ≈ g_F to rounding, and the
+  remaining residual is charged against a rigorous bound ‖ξ_F‖∞ ≤ β: when the free factors are
+  determined by the bounded ones (A_F has full column rank, as the trajectory set's states are),
+  ‖ξ_F‖₂ ≤ (‖b‖₂ + Σ_{j bounded} h_j ‖A_:j‖₂) / σ_min(A_F). Without such a bound the value is
+  uncertifiable and `SolverError('UncertifiableReducedCost')` is raised.
+* **rounding**: every computed sum s̃ of N products obeys |s̃ − s| ≤ γ_N Σ|terms| with
+  γ_N = N·u/(1 − N·u) (Higham, *Accuracy and Stability of Numerical Algorithms*, §3.1); the bound adds
+  these terms, computed from absolute values, and is finally rounded upward.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from .clarabel_lp import SolverError
+
+__all__ = ["gamma", "free_factor_bound", "normal_solver", "correct_multipliers", "certified_bound",
+           "FREE_BOUND_DENSE_MAX", "Operators"]
+
+_U = np.finfo(float).eps / 2  # unit roundoff
+
+#: The bound on the free factors needs the smallest singular value of A_F, computed densely (an
+#: eigenvalue problem of the nF × nF Gram matrix) up to this many free factors; beyond, no rigorous
+#: bound is computed and a support with free factors is not certifiable.
+FREE_BOUND_DENSE_MAX = 2000
+
+
+def gamma(n: int | np.ndarray) -> np.ndarray:
+    """γ_n = n·u / (1 − n·u): the relative error bound of a floating-point sum of n terms."""
+    nu = np.asarray(n, dtype=float) * _U
+    return nu / (1.0 - nu)
+
+
+def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray) -> float | None:
+    """A rigorous bound β ≥ max_{ξ ∈ F} ‖ξ_F‖∞ on the free factors, or None when none is found.
+
+    Parameters
+    ----------
+    A : csc_matrix, shape (nc, ng)
+    b : ndarray, shape (nc,)
+    h : ndarray, shape (ng,)
+
+    Returns
+    -------
+    float or None
+        None when the free factors are not determined by the bounded ones (A_F rank deficient to
+        working accuracy) or there are more than `FREE_BOUND_DENSE_MAX` of them.
+
+    Notes
+    -----
+    λ_min(A_FᵀA_F) is bounded below by the computed smallest eigenvalue of the computed Gram matrix
+    minus the Gram matrix's rounding error (≤ γ_nc ‖|A_F|ᵀ|A_F|‖_F) and the symmetric eigensolver's
+    backward error (a generous 8·nF·u·‖Gram‖_F), both Frobenius bounds on the 2-norm.
+    """
+    free = np.flatnonzero(~np.isfinite(h))
+    if free.size == 0:
+        return 0.0
+    if free.size > FREE_BOUND_DENSE_MAX:
+        return None
+    AF = A[:, free]
+    gram = (AF.T @ AF).toarray()
+    absAF = abs(AF)
+    gram_err = float(gamma(A.shape[0] + 2) * np.linalg.norm((absAF.T @ absAF).toarray()))
+    eig_err = 8.0 * free.size * _U * np.linalg.norm(gram)
+    lam_min = float(np.linalg.eigvalsh(gram)[0]) - gram_err - eig_err
+    if not lam_min > 0:
+        return None
+    fin = np.flatnonzero(np.isfinite(h) & (h > 0))
+    col_norms = np.sqrt(np.asarray(A[:, fin].multiply(A[:, fin]).sum(axis=0)).reshape(-1))
+    rhs = (np.linalg.norm(b) + col_norms @ h[fin]) * (1.0 + gamma(A.shape[0] + fin.size + 4))
+    bound = rhs / np.sqrt(lam_min) * (1.0 + gamma(8))
+    return float(bound) if np.isfinite(bound) else None
+
+
+def normal_solver(AF: sp.csc_matrix):
+    """A solver of (A_FᵀA_F) y = r by sparse LU, or None when A_F is rank deficient (or empty)."""
+    from scipy.sparse.linalg import splu
+
+    if AF.shape[1] == 0 or AF.shape[0] < AF.shape[1]:
+        return None
+    try:
+        lu = splu(sp.csc_matrix(AF.T @ AF))
+    except RuntimeError:  # exactly singular
+        return None
+    return lu.solve
+
+
+def correct_multipliers(AF: sp.csc_matrix, gF: np.ndarray, lam: np.ndarray,
+                        solve_normal=None) -> np.ndarray:
+    """λ + δ with δ the least-norm solution of A_Fᵀδ = g_F − A_Fᵀλ (per row of ``lam``).
+
+    The correction is small when the solver's λ nearly cancels the free factors' reduced cost. With
+    ``solve_normal`` (a solver of A_FᵀA_F y = r, `normal_solver`) δ = A_F y, refined once; otherwise
+    by sparse least squares (lsqr), for rank-deficient A_F.
+    """
+    if AF.shape[1] == 0:
+        return lam
+    out = lam.copy()
+    AFt = sp.csr_matrix(AF.T)
+    AFc = sp.csc_matrix(AF)
+    for i in range(lam.shape[0]):
+        res = gF[i] - AFt @ lam[i]
+        if not np.any(res):
+            continue
+        # Two passes: the second removes what the first left by rounding or stopping tolerance.
+        for _ in range(2):
+            if solve_normal is not None:
+                y = solve_normal(res)
+                if not np.all(np.isfinite(y)):
+                    break
+                delta = AFc @ y
+            else:
+                from scipy.sparse.linalg import lsqr
+
+                delta = lsqr(AFt, res, atol=1e-15, btol=1e-15, iter_lim=10 * AF.shape[1] + 50)[0]
+            candidate = out[i] + delta
+            new_res = gF[i] - AFt @ candidate
+            if np.abs(new_res).max() >= np.abs(res).max():
+                break  # no progress: keep the better multiplier
+            out[i], res = candidate, new_res
+    return out
+
+
+class Operators:
+    """Gᵀ, |G|ᵀ, Aᵀ, |A|ᵀ and the per-column γ factors of one CZ, prepared once for `certified_bound`
+    (scipy's sparse conversions cost more than the bound itself on small sets)."""
+
+    def __init__(self, G, A: sp.csc_matrix):
+        dense = not sp.issparse(G)
+        self.Gt = np.ascontiguousarray(G.T) if dense else sp.csr_matrix(G.T)
+        self.absGt = np.abs(self.Gt) if dense else abs(self.Gt)
+        self.At = sp.csr_matrix(A.T)
+        self.absAt = abs(self.At)
+        col_nnz = np.diff(A.indptr) if A.shape[0] else np.zeros(A.shape[1], dtype=int)
+        self.gamma_cols = gamma(col_nnz + 2)
+
+
+def certified_bound(d: np.ndarray, G, c: np.ndarray, A: sp.csc_matrix, b: np.ndarray,
+                    h: np.ndarray, lam: np.ndarray, free_bound: float | None,
+                    ops: Operators | None = None) -> np.ndarray:
+    """Upper bounds on h_Z(d_i) for Z(G, c, A, b, h), rigorous in floating point (module docstring).
+
+    Parameters
+    ----------
+    d : ndarray, shape (k, n)
+        Directions.
+    G, c, A, b, h
+        The CZ's data (exact as stored).
+    lam : ndarray, shape (k, nc)
+        Any multipliers (one row per direction).
+    free_bound : float or None
+        β ≥ ‖ξ_F‖∞ over the factor set (`free_factor_bound`); None if unknown.
+    ops : Operators, optional
+        The prepared transposes of G and A (built here when not given).
+
+    Returns
+    -------
+    ndarray, shape (k,)
+
+    Raises
+    ------
+    SolverError
+        'UncertifiableReducedCost' when free factors carry a nonzero reduced cost (or rounding
+        uncertainty) and no bound on them is known.
+    """
+    n = d.shape[1]
+    nc, ng = A.shape
+    ops = Operators(G, A) if ops is None else ops
+    g = np.asarray((ops.Gt @ d.T).T)
+    g_err = gamma(n + 1) * np.asarray((ops.absGt @ np.abs(d).T).T)
+    Atl = np.asarray((ops.At @ lam.T).T)
+    absAtl = np.asarray((ops.absAt @ np.abs(lam).T).T)
+    reduced = g - Atl
+    # |computed r_j − exact r_j| ≤ γ_{m_j+2}(|g_j| + (|A|ᵀ|λ|)_j) + |g̃_j − g_j|; the computed |A|ᵀ|λ|
+    # is itself inflated by (1 + γ) for its own rounding.
+    gc = ops.gamma_cols
+    r_err = gc * (np.abs(g) + absAtl * (1.0 + gc)) + g_err
+    r_abs = np.abs(reduced) + r_err
+    finite = np.isfinite(h)
+    terms = r_abs[:, finite] @ h[finite]
+    free = ~finite
+    if free.any():
+        charge = r_abs[:, free].sum(axis=1)
+        if free_bound is None:
+            # No bound on the free factors: certifiable only if their reduced costs are exactly
+            # zero, decided in exact rational arithmetic (strips, half-spaces, lines: free factors
+            # with a lineality that the direction does not see).
+            if np.any(charge > 0) and not _exactly_cancelled(d, G, A, lam, np.flatnonzero(free)):
+                raise SolverError("UncertifiableReducedCost",
+                                  "certifying a support value: the free factors carry a reduced cost "
+                                  f"up to {charge.max():.3g} and no finite bound on them is known",
+                                  kind="support")
+            charge = np.zeros_like(charge)
+        else:
+            terms = terms + charge * free_bound
+    offset = d @ c
+    blam = lam @ b
+    total = offset + blam + terms
+    # Rounding of dᵀc, bᵀλ and the Σ_j h_j |r_j| (+ charge) sums, each from its absolute values.
+    nterms = n + nc + ng + 8
+    err = gamma(nterms) * (np.abs(d) @ np.abs(c) + np.abs(lam) @ np.abs(b) + 2.0 * np.abs(terms)
+                           + np.abs(total))
+    return np.nextafter(total + err * (1.0 + gamma(4)), np.inf)
+
+
+#: Free factors whose reduced costs are checked for exact cancellation, at most.
+EXACT_CHECK_MAX = 200
+
+
+def _exactly_cancelled(d: np.ndarray, G, A: sp.csc_matrix, lam: np.ndarray, free: np.ndarray) -> bool:
+    """Whether (Gᵀd − Aᵀλ)_j = 0 exactly for every free j and every row of d, in rational arithmetic."""
+    from fractions import Fraction
+
+    if free.size > EXACT_CHECK_MAX:
+        return False
+    Gc = sp.csc_matrix(G)
+    for i in range(d.shape[0]):
+        for j in free:
+            total = Fraction(0)
+            for p in range(Gc.indptr[j], Gc.indptr[j + 1]):
+                total += Fraction(float(Gc.data[p])) * Fraction(float(d[i, Gc.indices[p]]))
+            for p in range(A.indptr[j], A.indptr[j + 1]):
+                total -= Fraction(float(A.data[p])) * Fraction(float(lam[i, A.indices[p]]))
+            if total != 0:
+                return False
+    return True

@@ -1,0 +1,246 @@
+"""Presolve of the factor set {ξ : Aξ = b, |ξ| ≤ h} before it reaches Clarabel.
+
+One set can be written many ways: a constraint row multiplied by 1e-12, a factor ξ_j replaced by
+s·ξ_j (its column of G and A divided by s, its bound multiplied by s), coordinates rescaled. An
+interior-point method is not invariant under these changes (Clarabel's own equilibration is clipped
+to [1e-4, 1e4]), so a badly scaled representation can lose a constraint row or stall. The presolve
+maps every representation of one set to (nearly) the same well-scaled program:
+
+* factors with ``h_j = 0`` are fixed at zero and dropped;
+* finite bounds are scaled out, ``ξ_j = h_j η_j`` with ``|η_j| ≤ 1`` (this makes the program
+  invariant under rescaling a bounded factor);
+* rows are scaled to unit ∞-norm over their bounded entries, and the columns of free factors to
+  unit ∞-norm (alternating sweeps where rows hold free factors only), so a row or a free factor
+  scaled by 1e±12 is the same row or factor, and free factors take values in the units of the
+  bounded ones;
+* zero rows are dropped (an inconsistent one, 0 = b_i ≠ 0, means the set is empty), and, when
+  asked (small or dense programs, or after a failed solve), linearly dependent rows too, through the
+  scale-invariant rank decision of `setsmooth.linalg.independent_rows`.
+
+The presolved program is
+
+    maximize ĝᵀη   subject to   Âη = b̂,  |η_j| ≤ 1 (j bounded),   with  Â = R A S,  b̂ = R b,
+    ĝ = S g,  ξ = S η,
+
+where R (rows) and S (columns) are positive diagonal scalings. A multiplier ẑ of the presolved
+program for the objective ĝ/σ maps back to λ = σ R ẑ for the original one (zero on dropped rows).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from .. import tolerances as tol
+from ..linalg import independent_rows
+
+__all__ = ["Presolved", "presolve", "simplex", "project_free", "RUIZ_SWEEPS", "INDEPENDENT_RCOND"]
+
+#: Equilibration sweeps with free factors (each scales the free columns, then the rows holding only
+#: free factors, to unit ∞-norm); without free factors one row normalization is exact.
+RUIZ_SWEEPS = 3
+
+
+#: Rows whose smallest singular value is at least this fraction of the largest are independent
+#: beyond doubt (far above the rank tolerance of `independent_rows`), and the QR is skipped.
+INDEPENDENT_RCOND = 1e-6
+
+
+@dataclass(frozen=True)
+class Presolved:
+    """The presolved factor set (see the module docstring).
+
+    Attributes
+    ----------
+    A : csc_matrix, shape (m, p)
+        Â = R A[rows][:, cols] S.
+    b : ndarray, shape (m,)
+        b̂ = R b[rows].
+    rows : ndarray of int
+        The original rows kept.
+    cols : ndarray of int
+        The original factors kept (those with h > 0).
+    row_scale : ndarray, shape (m,)
+        The diagonal of R.
+    col_scale : ndarray, shape (p,)
+        The diagonal of S (h_j for bounded factors).
+    bounded : ndarray of bool, shape (p,)
+        Which kept factors have |η_j| ≤ 1 (the others are free).
+    empty : bool
+        True when a dropped row is inconsistent: the factor set is empty.
+    dependent_checked : bool
+        Whether linearly dependent rows were looked for.
+    """
+
+    A: sp.csc_matrix
+    b: np.ndarray
+    rows: np.ndarray
+    cols: np.ndarray
+    row_scale: np.ndarray
+    col_scale: np.ndarray
+    bounded: np.ndarray
+    empty: bool
+    dependent_checked: bool
+
+    @property
+    def has_free(self) -> bool:
+        """Whether some kept factor is free (h = ∞)."""
+        return not bool(self.bounded.all())
+
+    def free_residual(self, q: np.ndarray, z: np.ndarray) -> float:
+        """max_j free |q_j + (Âᵀz)_j|: how far z is from cancelling the objective q on the free
+        factors (0 without free factors)."""
+        if self.bounded.all():
+            return 0.0
+        return float(np.abs(q + self.A.T @ z)[~self.bounded].max(initial=0.0))
+
+    def objective(self, g: np.ndarray) -> np.ndarray:
+        """ĝ = S g[cols] for objectives ``g`` of the original factors (rows of a (k, ng) array)."""
+        return g[:, self.cols] * self.col_scale
+
+    def factors(self, eta: np.ndarray, ng: int) -> np.ndarray:
+        """ξ = S η on the kept factors, 0 on the dropped ones (rows of a (k, p) array)."""
+        xi = np.zeros((eta.shape[0], ng))
+        xi[:, self.cols] = eta * self.col_scale
+        return xi
+
+    def multipliers(self, z: np.ndarray, sigma: np.ndarray, nc: int) -> np.ndarray:
+        """λ = σ R ẑ on the kept rows, 0 on the dropped ones (``z`` of shape (k, m))."""
+        lam = np.zeros((z.shape[0], nc))
+        lam[:, self.rows] = z * self.row_scale * sigma[:, None]
+        return lam
+
+
+def presolve(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray, *, dependent: bool) -> Presolved:
+    """Presolve {ξ : Aξ = b, |ξ| ≤ h} (module docstring).
+
+    Parameters
+    ----------
+    A : csc_matrix, shape (nc, ng)
+    b : ndarray, shape (nc,)
+    h : ndarray, shape (ng,)
+        Bounds in [0, ∞].
+    dependent : bool
+        Also drop linearly dependent rows (dense QR: for small programs or as a fallback).
+
+    Returns
+    -------
+    Presolved
+    """
+    nc, ng = A.shape
+    cols = np.flatnonzero(h > 0)
+    hk = h[cols]
+    bounded = np.isfinite(hk)
+    col_scale = np.where(bounded, hk, 1.0)
+    # Scaled in place on the CSC arrays: scipy's sparse products cost more than Clarabel's whole
+    # solve of a small CZ.
+    M = sp.csc_matrix(A[:, cols]) if cols.size < ng else A.copy()
+    M.sum_duplicates()
+    col_of = np.repeat(np.arange(M.shape[1]), np.diff(M.indptr))
+    M.data = M.data * col_scale[col_of]
+    row_scale = np.ones(nc)
+    free = ~bounded
+    # Rows are measured by their bounded entries, which are in the units of the factors' bounds
+    # (|η| ≤ 1): a row reads in those units whatever the scale of the free factors it also holds.
+    # Free columns are then scaled to unit ∞-norm, which puts the free factors' values in the same
+    # units (a trajectory set of noise scale 1e-6 has states of size 1e-6: unscaled they would sit
+    # below the solver's absolute tolerances). Rows without bounded entries are measured by all of
+    # them, which the free-column scaling changes: hence a few alternating sweeps.
+    has_free = bool(free.any())
+    bounded_norm = _row_abs_max(M, bounded[col_of]) if has_free else _row_abs_max(M)
+    r = _inverse(bounded_norm)
+    M.data *= r[M.indices]
+    row_scale *= r
+    only_free = bounded_norm == 0
+    for _ in range(RUIZ_SWEEPS if has_free else 0):
+        s = np.where(free, _inverse(_col_abs_max(M)), 1.0)
+        M.data *= s[col_of]
+        col_scale = col_scale * s
+        if not only_free.any():
+            break  # the bounded-entry row norms do not change with the free columns
+        r = np.where(only_free, _inverse(_row_abs_max(M)), 1.0)
+        M.data *= r[M.indices]
+        row_scale *= r
+    nonzero = _row_abs_max(M) > 0
+    bs = b * row_scale
+    # A zero row reads 0 = b_i; b_i left over by cancellation is rounding, judged against the other
+    # rows' normalized right-hand sides, as `independent_rows` judges one.
+    scale_b = 1.0 + np.abs(bs[nonzero]).max(initial=0.0)
+    empty = bool(np.any(np.abs(b[~nonzero]) > np.sqrt(tol.RANK_TOL) * scale_b))
+    rows = np.flatnonzero(nonzero)
+    if dependent and rows.size > 1 and not empty and not _well_conditioned(M, rows):
+        basis = independent_rows(M[rows] if rows.size < nc else M, bs[rows])
+        empty = not basis.consistent
+        rows = rows[basis.keep]
+    Mr = sp.csc_matrix(M[rows]) if rows.size < nc else M
+    return Presolved(Mr, bs[rows], rows, cols, row_scale[rows], col_scale, bounded, empty, dependent)
+
+
+def _well_conditioned(M: sp.csc_matrix, rows: np.ndarray) -> bool:
+    """Whether the kept rows are certainly independent: σ_min ≥ `INDEPENDENT_RCOND`·σ_max of the
+    (row-normalized) rows, a cheap test that spares the rank-revealing QR on the common case."""
+    if rows.size > M.shape[1]:
+        return False
+    dense = (M[rows] if rows.size < M.shape[0] else M).toarray()
+    sv = np.linalg.svd(dense, compute_uv=False)
+    return bool(sv[-1] >= INDEPENDENT_RCOND * sv[0])
+
+
+def _inverse(norms: np.ndarray) -> np.ndarray:
+    """1/norm, and 1 for zero norms (a zero row or column is left alone)."""
+    out = np.ones_like(norms)
+    pos = norms > 0
+    out[pos] = 1.0 / norms[pos]
+    return out
+
+
+def _row_abs_max(M: sp.csc_matrix, entries: np.ndarray | None = None) -> np.ndarray:
+    """∞-norm of every row (over the stored entries selected by the mask ``entries``)."""
+    out = np.zeros(M.shape[0])
+    if entries is None:
+        np.maximum.at(out, M.indices, np.abs(M.data))
+    else:
+        np.maximum.at(out, M.indices[entries], np.abs(M.data[entries]))
+    return out
+
+
+def _col_abs_max(M: sp.csc_matrix) -> np.ndarray:
+    out = np.zeros(M.shape[1])
+    counts = np.diff(M.indptr)
+    nonempty = counts > 0
+    if M.nnz:
+        out[nonempty] = np.maximum.reduceat(np.abs(M.data), M.indptr[:-1][nonempty])
+    return out
+
+
+def simplex(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
+    """min qᵀη over the presolved program by HiGHS (SciPy): (status name, η, λ̂ in Clarabel's sign
+    convention q + Âᵀλ̂ = 0 on the free factors)."""
+    from scipy.optimize import linprog
+
+    m, p = pre.A.shape
+    bounds = np.where(pre.bounded[:, None], [[-1.0, 1.0]], [[-np.inf, np.inf]])
+    res = linprog(q, A_eq=pre.A if m else None, b_eq=pre.b if m else None, bounds=bounds,
+                  method="highs")
+    names = {0: "AlmostSolved", 1: "MaxIterations", 2: "PrimalInfeasible", 3: "DualInfeasible"}
+    name = names.get(res.status, "NumericalError")
+    if res.status != 0:
+        return name, np.full(p, np.nan), np.full(m, np.nan)
+    # HiGHS's marginals are ∂(min)/∂b_eq, i.e. q = Âᵀy + (bound duals): λ̂ = −y.
+    return name, np.asarray(res.x), -np.asarray(res.eqlin.marginals)
+
+
+def project_free(pre: Presolved, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(q + Âᵀλ₀ with its free entries set to zero, λ₀), λ₀ the least-squares solution of
+    Â_Fᵀλ₀ = −q_F: the same objective on {Âη = b̂} up to the constant and the residual on the free
+    factors, which the recession program found to be within tolerance."""
+    from scipy.sparse.linalg import lsqr
+
+    free = ~pre.bounded
+    lam0 = lsqr(sp.csr_matrix(pre.A[:, free].T), -q[free], atol=1e-15, btol=1e-15)[0]
+    shifted = q + pre.A.T @ lam0
+    shifted[free] = 0.0
+    return shifted, lam0
+

@@ -1,0 +1,108 @@
+"""The fast path's presolve: one set, many representations, the same answers (or a SolverError)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from scipy.optimize import linprog
+
+import setsmooth as ss
+from setsmooth.solvers.presolve import presolve
+
+
+def highs_support(Z: ss.ConstrainedZonotope, d: np.ndarray) -> float:
+    """Independent value: HiGHS on max dᵀ(Gξ + c) s.t. Aξ = b, |ξ| ≤ h."""
+    G = Z.G.toarray() if sp.issparse(Z.G) else np.asarray(Z.G)
+    A = Z.A.toarray() if sp.issparse(Z.A) else np.asarray(Z.A)
+    bounds = [(None, None) if np.isinf(h) else (-h, h) for h in Z.h]
+    res = linprog(-(G.T @ d), A_eq=A, b_eq=Z.b, bounds=bounds, method="highs")
+    assert res.status == 0
+    return float(d @ Z.c - res.fun)
+
+
+def random_cz(seed: int, n: int = 3, ng: int = 6, nc: int = 2) -> ss.ConstrainedZonotope:
+    rng = np.random.default_rng(seed)
+    G, A = rng.standard_normal((n, ng)), rng.standard_normal((nc, ng))
+    return ss.ConstrainedZonotope(G, rng.standard_normal(n), A=A, b=A @ rng.uniform(-0.6, 0.6, ng),
+                                  h=rng.uniform(0.5, 2.0, ng))
+
+
+def test_a_row_scaled_by_1e_minus_12_is_not_dropped():
+    # The issue's example: ξ1 − ξ2 = 1/2 written with coefficients 1e-12; exact support 1.5, not 2.
+    Z = ss.ConstrainedZonotope([[1.0, 1.0]], [0.0], A=[[1e-12, -1e-12]], b=[0.5e-12])
+    assert Z.support([1.0]) == pytest.approx(1.5, abs=1e-8)
+    assert Z.support([-1.0]) == pytest.approx(1.5, abs=1e-8)
+    assert Z.support([1.0], certified=True) >= 1.5
+
+
+@pytest.mark.parametrize("how", ["rows", "factors", "coordinates"])
+@pytest.mark.parametrize("seed", range(4))
+def test_a_set_rescaled_by_1e_pm12_gives_the_same_support_values(how, seed):
+    Z = random_cz(seed)
+    rng = np.random.default_rng(100 + seed)
+    if how == "rows":
+        s = rng.choice([1e-12, 1e12], Z.nc)
+        W = ss.ConstrainedZonotope(Z.G, Z.c, A=Z.A * s[:, None], b=Z.b * s, h=Z.h)
+        M = np.eye(Z.dim)
+    elif how == "factors":  # ξ_j → ξ_j / s_j: the same set
+        s = rng.choice([1e-12, 1e12], Z.ng)
+        W = ss.ConstrainedZonotope(Z.G * s, Z.c, A=Z.A * s, b=Z.b, h=Z.h / s)
+        M = np.eye(Z.dim)
+    else:  # W = M Z, queried in M⁻ᵀd
+        M = np.diag(rng.choice([1e-12, 1e12], Z.dim))
+        W = ss.ConstrainedZonotope(M @ Z.G, M @ Z.c, A=Z.A, b=Z.b, h=Z.h)
+    for d in rng.standard_normal((6, Z.dim)):
+        exact = highs_support(Z, d)
+        dw = np.linalg.solve(M.T, d)
+        scale = 1.0 + np.abs(Z.G.T @ d) @ Z.h + abs(d @ Z.c)
+        assert W.support(dw) == pytest.approx(exact, abs=1e-7 * scale)
+        assert W.support(dw, certified=True) >= exact - 1e-12 * scale
+
+
+def test_free_factors_scaled_by_1e12_keep_the_set_bounded():
+    # ξ3 free but tied to the bounded ones: ξ3 = ξ1 + ξ2; scaled by 1e12 it is the same set.
+    G = np.array([[1.0, 0.0, 1.0], [0.0, 1.0, -1.0]])
+    A = np.array([[1.0, 1.0, -1.0]])
+    h = np.array([1.0, 1.0, np.inf])
+    Z = ss.ConstrainedZonotope(G, [0.0, 0.0], A=A, b=[0.0], h=h)
+    s = np.array([1.0, 1.0, 1e12])
+    W = ss.ConstrainedZonotope(G * s, [0.0, 0.0], A=A * s, b=[0.0], h=h)
+    for d in np.random.default_rng(0).standard_normal((5, 2)):
+        assert np.isfinite(W.support(d))
+        assert W.support(d) == pytest.approx(Z.support(d), abs=1e-7)
+
+
+def test_presolve_drops_fixed_factors_zero_rows_and_dependent_rows():
+    A = sp.csc_matrix(np.array([[1.0, 2.0, 0.0], [2.0, 4.0, 0.0], [0.0, 0.0, 5.0], [0.0, 0.0, 0.0]]))
+    b = np.array([1.0, 2.0, 0.0, 0.0])
+    pre = presolve(A, b, np.array([1.0, 2.0, 0.0]), dependent=True)
+    assert pre.cols.tolist() == [0, 1]  # h = 0: ξ3 fixed at 0
+    assert len(pre.rows) == 1 and not pre.empty  # rows 2 = 2·row 1; rows 3, 4 zero once ξ3 is gone
+    assert np.abs(pre.A.toarray()).max() == pytest.approx(1.0)  # unit ∞-norm rows
+    inconsistent = presolve(A, np.array([1.0, 2.5, 0.0, 0.0]), np.ones(3), dependent=True)
+    assert inconsistent.empty
+    zero_row = presolve(A, np.array([1.0, 2.0, 0.0, 3.0]), np.ones(3), dependent=False)
+    assert zero_row.empty  # 0 = 3
+
+
+def test_dependent_rows_make_no_difference_to_the_answers():
+    Z = random_cz(7)
+    A = np.vstack([Z.A, 3.0 * Z.A[:1] - 1e-3 * Z.A[1:2]])
+    b = np.concatenate([Z.b, 3.0 * Z.b[:1] - 1e-3 * Z.b[1:2]])
+    W = ss.ConstrainedZonotope(Z.G, Z.c, A=A, b=b, h=Z.h)
+    D = np.random.default_rng(1).standard_normal((6, Z.dim))
+    np.testing.assert_allclose(W.support_many(D), [highs_support(Z, d) for d in D], atol=1e-7)
+    assert not W.is_empty()
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_members_of_a_factor_rescaled_set_are_accepted(seed):
+    Z = random_cz(seed)
+    rng = np.random.default_rng(200 + seed)
+    s = rng.choice([1e-12, 1e12], Z.ng)
+    W = ss.ConstrainedZonotope(Z.G * s, Z.c, A=Z.A * s, b=Z.b, h=Z.h / s)
+    for d in rng.standard_normal((3, Z.dim)):
+        boundary = Z.support_point(d)
+        assert W.contains(boundary)
+        assert not W.contains(boundary + 1e-3 * d / np.linalg.norm(d))
