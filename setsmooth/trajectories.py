@@ -127,7 +127,7 @@ def filtering_map(system, prior: ConvexSet, ys: Any, i: int, k: int) -> Constrai
     >>> system = ss.LinearSystem([[1.0]], [[1.0]], [[1.0]], [[1.0]], W=box, V=box)
     >>> F = ss.filtering_map(system, ss.Box([-5.0], [5.0]), [[0.0], [0.5], [1.0]], 1, 2)
     >>> hull = F.interval_hull()          # y_1 = 0.5 gives x_1 ∈ [−0.5, 1.5], then x_2 ∈ [0, 2]
-    >>> hull.lo.round(6).tolist(), hull.hi.round(6).tolist()
+    >>> (hull.lo.round(6) + 0.0).tolist(), (hull.hi.round(6) + 0.0).tolist()   # + 0.0: no −0.0
     ([0.0], [2.0])
     """
     traj = trajectory_set(system, prior, ys, i, k)
