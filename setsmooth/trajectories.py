@@ -17,11 +17,16 @@ The states themselves are free factors (h = ∞) of the extended CZ (stability p
 every constraint couples only neighbouring time steps: O(k − i) factors and sparse rows, instead of the
 dense O((k − i)²) blocks of (23) that eliminating the states would create.
 
-Factors, in order: s_i..s_k (the states, h = ∞), ξ_Z (the prior), ξ_{w,i..k−1} (W), ξ_{v,i..k} (V).
-Rows: A_Z ξ_Z = b_Z, A_w ξ_{w,l} = b_w, A_v ξ_{v,l} = b_v, then
-    s_i − G_Z ξ_Z                       = c_Z
-    s_{l+1} − A_l s_l − B_l G_w ξ_{w,l} = B_l c_w + u_l
-    C_l s_l + D_l G_v ξ_{v,l}           = y_l − D_l c_v
+The states are written about the nominal trajectory x̄ (the noises at their centres: x̄_i = c_Z,
+x̄_{l+1} = A_l x̄_l + B_l c_w + u_l), which becomes the CZ's centre: x_l = x̄_l + s_l. The LP then only
+sees deviations of the noises' scale, however far the states are from the origin (an offset of 1e6 in
+the states cost the solver 1e-3 of absolute accuracy when the states themselves were the factors).
+
+Factors, in order: s_i..s_k (the state deviations, h = ∞), ξ_Z (the prior), ξ_{w,i..k−1} (W),
+ξ_{v,i..k} (V). Rows: A_Z ξ_Z = b_Z, A_w ξ_{w,l} = b_w, A_v ξ_{v,l} = b_v, then
+    s_i − G_Z ξ_Z                       = 0
+    s_{l+1} − A_l s_l − B_l G_w ξ_{w,l} = 0
+    C_l s_l + D_l G_v ξ_{v,l}           = y_l − D_l c_v − C_l x̄_l
 """
 
 from __future__ import annotations
@@ -220,20 +225,23 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
     row += (steps + 1) * Zv.nc
 
     eye = np.eye(n)
+    nominal = np.empty((steps + 1, n))  # x̄_start..x̄_stop, the CZ's centre
+    nominal[0] = Z0.c
     # x_start ∈ prior
     A.put(row, 0, eye)
     A.put(row, col_x0, -Z0.G)
-    rhs.append(Z0.c)
+    rhs.append(np.zeros(n))
     row += n
     # dynamics
     Gw = _dense(Zw.G)
     for j in range(steps):
         k = start + j
         Bk = system.B(k)
+        nominal[j + 1] = system.A(k) @ nominal[j] + Bk @ Zw.c + system.input_term(k)
         A.put(row, (j + 1) * n, eye)
         A.put(row, j * n, -system.A(k))
         A.put(row, col_w + j * Zw.ng, -(Bk @ Gw))
-        rhs.append(Bk @ Zw.c + system.input_term(k))
+        rhs.append(np.zeros(n))
         row += n
     # measurements
     Gv = _dense(Zv.G)
@@ -242,7 +250,7 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
         Dk = system.D(k)
         A.put(row, j * n, system.C(k))
         A.put(row, col_v + j * Zv.ng, Dk @ Gv)
-        rhs.append(ys[k] - Dk @ Zv.c)
+        rhs.append(ys[k] - Dk @ Zv.c - system.C(k) @ nominal[j])
         row += m
 
     A_matrix = A.to_csc((row, n_factors))
@@ -250,7 +258,7 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
     G = sp.csc_matrix((np.ones(n_states), (np.arange(n_states), np.arange(n_states))),
                       shape=(n_states, n_factors))
     h = np.concatenate([np.full(n_states, np.inf), Z0.h, np.tile(Zw.h, steps), np.tile(Zv.h, steps + 1)])
-    trajectories = ConstrainedZonotope._trusted(G, np.zeros(n_states), A_matrix, b, h)
+    trajectories = ConstrainedZonotope._trusted(G, nominal.reshape(-1), A_matrix, b, h)
     trajectories.factors  # created now, so that every projection shares one factor set
     return trajectories
 
