@@ -6,7 +6,9 @@ import pytest
 
 import setsmooth as ss
 from setsmooth.solvers import generic
+from setsmooth.filters.classical import predict, update
 from setsmooth.trajectories import TrajectorySet
+from setsmooth.trajectory_program import FilteredState
 from tests.estimation_helpers import example_31
 
 DIRECTIONS = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0], [1.0, 1.0], [1.0, -2.0]])
@@ -44,13 +46,22 @@ def _system(kind):
     return ss.LinearSystem(base.A(0), base.B(0), base.C(0), base.D(0), W=W, V=V)
 
 
+def _recursion_filter(sys, X0, ys):
+    """The classical filter's recursion (stability (3)–(4)) step by step, through the public steps."""
+    posteriors = [update(sys, 0, X0, ys[0])]
+    for k in range(1, len(ys)):
+        posteriors.append(update(sys, k, predict(sys, k - 1, posteriors[-1]), ys[k]))
+    return posteriors
+
+
 @pytest.mark.parametrize("kind", ["ellipsoid", "custom", "ellipsoid_V"])
 def test_trajectory_smoother_of_non_cz_sets_equals_the_recursion(kind):
     sys = _system(kind)
     X0 = ss.HPolytope(np.vstack([np.eye(2), -np.eye(2), [[1.0, 1.0]]]), [3, 3, 3, 3, 4.0])
     xs, ys = ss.simulate(sys, ss.Box([-2, -2], [2, 2]), 5, np.random.default_rng(7))
     traj = ss.optimal_smoother(sys, X0, ys, method="trajectory")
-    rec = ss.optimal_smoother(sys, X0, ys, method="recursion")
+    # The recursion of Algorithm 1 on the recursion filter's posteriors: no trajectory program in it.
+    rec = ss.optimal_smoother(sys, X0, ys, method="recursion", posteriors=_recursion_filter(sys, X0, ys))
     for k, (a, r) in enumerate(zip(traj, rec)):
         va, vr = a.support_many(DIRECTIONS), r.support_many(DIRECTIONS)
         assert np.all(np.abs(va - vr) <= 1e-6 * np.maximum(1.0, np.abs(vr))), (k, va, vr)
@@ -120,3 +131,73 @@ def test_sets_with_a_cz_form_keep_the_sparse_cz():
     sys = example_31()
     _, ys = ss.simulate(sys, ss.Box([-1, -1], [1, 1]), 3, np.random.default_rng(6))
     assert isinstance(ss.trajectory_set(sys, ss.Box([-1, -1], [1, 1]), ys), ss.ConstrainedZonotope)
+
+
+@pytest.mark.parametrize("kind", ["ellipsoid", "custom", "ellipsoid_V"])
+def test_filter_of_non_cz_sets_equals_the_recursion(kind):
+    sys = _system(kind)
+    X0 = ss.Box([-3, -3], [3, 3])
+    _, ys = ss.simulate(sys, ss.Box([-2, -2], [2, 2]), 5, np.random.default_rng(8))
+    posteriors = ss.classical_filter(sys, X0, ys)
+    assert all(isinstance(P, FilteredState) for P in posteriors)
+    for k, (P, R) in enumerate(zip(posteriors, _recursion_filter(sys, X0, ys))):
+        vp, vr = P.support_many(DIRECTIONS), R.support_many(DIRECTIONS)
+        assert np.all(np.abs(vp - vr) <= 1e-6 * np.maximum(1.0, np.abs(vr))), (k, vp, vr)
+
+
+def test_all_filtered_ranges_share_one_compiled_program(monkeypatch):
+    from setsmooth import trajectory_program
+
+    built = []
+    original = trajectory_program._FilterProgram.__init__
+
+    def counting(self, traj):
+        built.append(traj)
+        original(self, traj)
+
+    monkeypatch.setattr(trajectory_program._FilterProgram, "__init__", counting)
+    sys = _system("custom")
+    X0 = ss.Box([-3, -3], [3, 3])
+    xs, ys = ss.simulate(sys, X0, 8, np.random.default_rng(9))
+    posteriors = ss.classical_filter(sys, X0, ys)
+    for k, P in enumerate(posteriors):
+        hull = P.interval_hull()
+        assert np.all(hull.lo <= xs[k] + 1e-6) and np.all(xs[k] <= hull.hi + 1e-6), k
+    assert len(built) == 1
+
+
+@pytest.mark.parametrize("bad_step", [0, 3, 5])
+def test_filter_finds_the_first_empty_posterior_as_the_recursion_does(bad_step):
+    sys = _system("custom")
+    X0 = ss.Box([-3, -3], [3, 3])
+    _, ys = ss.simulate(sys, ss.Box([-1, -1], [1, 1]), 5, np.random.default_rng(10))
+    ys = ys.copy()
+    ys[bad_step] += 100.0  # no state explains this measurement
+    posteriors = ss.classical_filter(sys, X0, ys)
+    recursion = _recursion_filter(sys, X0, ys)
+    for k, (P, R) in enumerate(zip(posteriors, recursion)):
+        assert isinstance(P, ss.EmptySet) == (k >= bad_step), k
+        assert R.is_empty() == (k >= bad_step), k
+    undetected = ss.classical_filter(sys, X0, ys, detect_empty=False)
+    assert all(isinstance(P, FilteredState) for P in undetected)
+    assert [P.is_empty() for P in undetected] == [k >= bad_step for k in range(6)]
+
+
+def test_filter_with_an_unbounded_prior_keeps_the_recursion():
+    sys = _system("custom")
+    _, ys = ss.simulate(sys, ss.Box([-1, -1], [1, 1]), 3, np.random.default_rng(11))
+    posteriors = ss.classical_filter(sys, ss.Reals(2), ys)
+    assert not any(isinstance(P, FilteredState) for P in posteriors)
+    assert np.isfinite(posteriors[-1].support([1.0, 0.0]))
+
+
+def test_a_filtered_range_states_its_own_constraints():
+    # constraints(x) is the exact set too (used by the set algebra and the generic path).
+    sys = _system("ellipsoid")
+    X0 = ss.Box([-3, -3], [3, 3])
+    _, ys = ss.simulate(sys, ss.Box([-1, -1], [1, 1]), 4, np.random.default_rng(12))
+    P = ss.classical_filter(sys, X0, ys)[3]
+    assert np.allclose(P.support_many(DIRECTIONS), P.support_many(DIRECTIONS, path="generic"),
+                       rtol=1e-6, atol=1e-6)
+    with pytest.raises(ValueError, match="certified"):
+        P.interval_hull(certified=True)

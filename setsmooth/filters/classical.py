@@ -39,10 +39,21 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, detect_empty: bool = Tru
     -------
     list of ConvexSet
         ``posteriors[k]`` = ⟦x_k | y_{0:k}⟧. An empty posterior means the measurements are
-        inconsistent with the model (ill-posedness is data, not an exception).
+        inconsistent with the model (ill-posedness is data, not an exception). When X0, W or V has
+        no CZ form and X0 and W are bounded, the posteriors are `FilteredState`s: the same sets as
+        projections of one compiled trajectory program (`setsmooth.trajectory_program`), with one
+        emptiness program for the whole data set.
     """
     ys = as_measurements(ys, system.m)
     _check_state_set(X0, "X0", system.n)
+    if any(S._flat_cz is None for S in (X0, system.W, system.V)):
+        # Without a CZ form the recursion's sets nest O(k) deep, one CVXPY compilation per query:
+        # the same posteriors as projections of one compiled trajectory program (bounded states).
+        from ..trajectory_program import filtered_ranges
+
+        ranges = filtered_ranges(system, X0, ys, detect_empty)
+        if ranges is not None:
+            return ranges
     posteriors: list[ConvexSet] = []
     prior = X0
     for k, y in enumerate(ys):
