@@ -177,7 +177,7 @@ class ConvexSet(AlgebraHooks, ABC):
             per (path, certified) and kept on the set (sets are immutable; `diameter` and `center`
             reuse it). The kept hull is an immutable Box, so the set stays picklable.
         """
-        key = (self._check_path(path), bool(certified))
+        key = (self._check_path(path), certified)
         hulls = self.__dict__.setdefault("_interval_hulls", {})
         hull = hulls.get(key)
         if hull is None:
