@@ -236,17 +236,15 @@ class _FilterProgram:
         return values, points
 
 
-def filtered_ranges(system, X0: ConvexSet, ys: np.ndarray, detect_empty: bool = True
-                    ) -> "list[ConvexSet] | None":
+def filtered_ranges(system, X0: ConvexSet, ys: np.ndarray) -> "list[ConvexSet] | None":
     """Posteriors ⟦x_k | y_{0:k}⟧, k = 0..T, as `FilteredState`s of one trajectory program.
 
     ⟦x_k | y_{0:k}⟧ = F_{k,0}(X0) is the projection on x_k of the trajectories 0..k consistent with
     y_{0:k} (stability (7); smoothing Theorem 1 with T = k). Appending the steps k+1..T without their
     measurements changes no x_k: when W is non-empty every x_k continues to a trajectory 0..T. So each
     posterior is the projection on x_k of the trajectories 0..T with the measurements after k dropped,
-    and one compiled program serves all of them. Emptiness is monotone in k (more data, fewer
-    trajectories): one feasibility program decides it for the whole data set, a bisection finds the
-    first empty posterior otherwise.
+    and one compiled program serves all of them (`classical_filter` then settles emptiness for the
+    whole data set at once).
 
     Parameters
     ----------
@@ -254,29 +252,15 @@ def filtered_ranges(system, X0: ConvexSet, ys: np.ndarray, detect_empty: bool = 
     X0 : ConvexSet
     ys : ndarray, shape (T+1, m)
         Validated measurements.
-    detect_empty : bool
-        As in `classical_filter`: `EmptySet` from the first empty posterior on.
 
     Returns
     -------
-    list of ConvexSet or None
+    list of FilteredState or None
         None when the states are not known to be bounded (an unbounded X0 or W, or an empty W): the
         caller then runs the recursion.
     """
-    from .sets.empty import EmptySet
-
     T = ys.shape[0] - 1
     trajectories = TrajectorySet(system, X0, ys, 0, T)
     if not trajectories._states_bounded(needs_w=True):
         return None
-    posteriors: list[ConvexSet] = [FilteredState(trajectories, k) for k in range(T + 1)]
-    if detect_empty and posteriors[T].is_empty():
-        lo, hi = 0, T  # the first empty posterior lies in [lo, hi]
-        while lo < hi:
-            mid = (lo + hi) // 2
-            if posteriors[mid].is_empty():
-                hi = mid
-            else:
-                lo = mid + 1
-        posteriors[lo:] = [EmptySet(system.n) for _ in range(lo, T + 1)]
-    return posteriors
+    return [FilteredState(trajectories, k) for k in range(T + 1)]

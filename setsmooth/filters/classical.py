@@ -31,8 +31,9 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, detect_empty: bool = Tru
     ys : array_like, shape (T+1, m)
         Measurements y_0..y_T.
     detect_empty : bool
-        Check each posterior for emptiness (one feasibility program per step) and return `EmptySet`
-        from the first empty one on. With False the sets are returned as computed; an empty one is
+        Return `EmptySet` from the first empty posterior on. Emptiness is monotone in k, so this is
+        one feasibility program on the last posterior when the data are consistent (a bisection
+        otherwise), not one per step. With False the sets are returned as computed; an empty one is
         still empty (``is_empty()``), only not simplified.
 
     Returns
@@ -46,24 +47,45 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, detect_empty: bool = Tru
     """
     ys = as_measurements(ys, system.m)
     _check_state_set(X0, "X0", system.n)
+    posteriors: list[ConvexSet] | None = None
     if any(S._flat_cz is None for S in (X0, system.W, system.V)):
         # Without a CZ form the recursion's sets nest O(k) deep, one CVXPY compilation per query:
         # the same posteriors as projections of one compiled trajectory program (bounded states).
         from ..trajectory_program import filtered_ranges
 
-        ranges = filtered_ranges(system, X0, ys, detect_empty)
-        if ranges is not None:
-            return ranges
-    posteriors: list[ConvexSet] = []
-    prior = X0
-    for k, y in enumerate(ys):
-        if k > 0:
-            prior = _predict(system, k - 1, posteriors[-1])
-        posterior = _update(system, k, prior, y)
-        if detect_empty and not isinstance(posterior, EmptySet) and posterior.is_empty():
-            posterior = EmptySet(system.n)
-        posteriors.append(posterior)
+        posteriors = filtered_ranges(system, X0, ys)
+    if posteriors is None:
+        posteriors = []
+        prior = X0
+        for k, y in enumerate(ys):
+            if k > 0:
+                prior = _predict(system, k - 1, posteriors[-1])
+            posteriors.append(_update(system, k, prior, y))
+    if detect_empty:
+        first = _first_empty(posteriors)
+        posteriors[first:] = [EmptySet(system.n) for _ in range(first, len(posteriors))]
     return posteriors
+
+
+def _first_empty(posteriors: list[ConvexSet]) -> int:
+    """Index of the first empty posterior (len(posteriors) when none is empty), by bisection.
+
+    Emptiness is monotone in k: ⟦x_k | y_{0:k}⟧ = ∅ makes every later posterior empty (more data, fewer
+    consistent trajectories; in the recursion the prediction of an empty set is empty). So one
+    feasibility program on the last posterior settles a consistent data set, and ⌈log₂(T + 1)⌉ more
+    find the first empty one otherwise, instead of one program per step.
+    """
+    last = len(posteriors) - 1
+    if not posteriors[last].is_empty():
+        return last + 1
+    lo, hi = 0, last  # the first empty posterior lies in [lo, hi]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if posteriors[mid].is_empty():
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
 
 
 def predict(system, k: int, posterior: ConvexSet) -> ConvexSet:
