@@ -201,3 +201,17 @@ def test_a_filtered_range_states_its_own_constraints():
                        rtol=1e-6, atol=1e-6)
     with pytest.raises(ValueError, match="certified"):
         P.interval_hull(certified=True)
+
+
+def test_filtered_and_smoothed_ranges_pickle_after_queries():
+    import pickle
+
+    sys = _system("ellipsoid")
+    X0 = ss.Box([-3, -3], [3, 3])
+    _, ys = ss.simulate(sys, ss.Box([-1, -1], [1, 1]), 3, np.random.default_rng(14))
+    P = ss.classical_filter(sys, X0, ys)[2]
+    S = ss.optimal_smoother(sys, X0, ys)[1]
+    for R in (P, S):
+        before = R.support_many(DIRECTIONS)
+        copy = pickle.loads(pickle.dumps(R))
+        assert np.allclose(copy.support_many(DIRECTIONS), before, rtol=1e-7, atol=1e-7)
