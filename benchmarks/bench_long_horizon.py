@@ -105,6 +105,12 @@ def run_case(case: str, size: int, seed: int) -> dict:
     import numpy as np
 
     import setsmooth as ss
+    # Load every module before the clock starts: a checkout whose `import setsmooth` is lazy would
+    # otherwise pay its imports (CVXPY, SciPy) inside the first timed call.
+    import setsmooth.filters  # noqa: F401
+    import setsmooth.sets  # noqa: F401
+    import setsmooth.smoothers  # noqa: F401
+    import setsmooth.trajectories  # noqa: F401
 
     wall, cpu = time.perf_counter(), time.process_time()
     extra: dict = {}
