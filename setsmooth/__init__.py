@@ -17,7 +17,10 @@ __version__ = "0.1.0"
 _EXPORTS = {
     **dict.fromkeys(["ConvexSet", "Box", "Zonotope", "ConstrainedZonotope", "HPolytope", "Ellipsoid",
                      "EmptySet", "Reals", "LinearMap", "MinkowskiSum", "Intersection",
-                     "GeneralizedIntersection", "CartesianProduct"], ".sets"),
+                     "GeneralizedIntersection", "CartesianProduct", "reduce", "ReductionMethod",
+                     "DropZeros", "DropDependentConstraints", "MergeParallelGenerators", "Rescale",
+                     "EliminateConstraints", "Girard", "Combastel", "IntervalHull", "CORA_GIRARD",
+                     "CORA_COMBASTEL"], ".sets"),
     "SolverError": ".solvers",
     **dict.fromkeys(["LinearSystem", "NonlinearSystem", "simulate"], ".systems"),
     **dict.fromkeys(["classical_filter", "interval_filter", "kalman_filter", "rts_smoother",
@@ -36,6 +39,9 @@ __all__ = [
     "classical_filter", "optimal_smoother", "trajectory_set", "filtering_map", "interval_filter",
     "interval_smoother",
     "IntervalEstimates", "kalman_filter", "rts_smoother", "KalmanResult", "montecarlo", "paper_examples",
+    "reduce", "ReductionMethod", "DropZeros", "DropDependentConstraints", "MergeParallelGenerators",
+    "Rescale", "EliminateConstraints", "Girard", "Combastel", "IntervalHull", "CORA_GIRARD",
+    "CORA_COMBASTEL",
 ]
 
 
@@ -60,6 +66,9 @@ if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
     from .sets import (Box, CartesianProduct, ConstrainedZonotope, ConvexSet, Ellipsoid, EmptySet,
                        GeneralizedIntersection, HPolytope, Intersection, LinearMap, MinkowskiSum, Reals,
                        Zonotope)
+    from .sets import (CORA_COMBASTEL, CORA_GIRARD, Combastel, DropDependentConstraints, DropZeros,
+                       EliminateConstraints, Girard, IntervalHull, MergeParallelGenerators,
+                       ReductionMethod, Rescale, reduce)
     from .smoothers import interval_smoother, optimal_smoother
     from .solvers import SolverError
     from .systems import LinearSystem, NonlinearSystem, simulate

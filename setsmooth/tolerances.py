@@ -44,3 +44,17 @@ def nearly_equal(a: float, b: float, tol: float = MEMBERSHIP_TOL) -> bool:
     if np.isinf(a) or np.isinf(b):
         return bool(a == b)
     return abs(a - b) <= scaled(tol, max(abs(a), abs(b)))
+
+#: Relative tolerance below which two generators (unit-normalized, sign-aligned) count as parallel
+#: and are merged by `MergeParallelGenerators`; the merge moves the set by at most this fraction of
+#: the merged generators' length.
+PARALLEL_TOL = 1e-10
+
+#: Unit roundoff of IEEE double precision (2⁻⁵³): the rigorous rounding bounds of order reduction.
+UNIT_ROUNDOFF = float(np.finfo(float).eps) / 2
+
+
+def gamma(k: int) -> float:
+    """Higham's γ_k = k·u / (1 − k·u): relative error bound of a k-term floating-point dot product."""
+    ku = k * UNIT_ROUNDOFF
+    return ku / (1.0 - ku)

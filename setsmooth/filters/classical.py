@@ -18,10 +18,17 @@ from .._validation import as_measurements, as_vector
 from ..sets.algebra import generalized_intersection, linear_map, minkowski_sum, translate
 from ..sets.base import ConvexSet
 from ..sets.empty import EmptySet
+from ..sets.reduction import apply_methods, as_methods
 
 
-def classical_filter(system, X0: ConvexSet, ys: Any, *, detect_empty: bool = True) -> list[ConvexSet]:
+def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
+                     detect_empty: bool = True) -> list[ConvexSet]:
     """Posterior ranges ⟦x_k | y_{0:k}⟧ for k = 0..T (stability paper Algorithm 1).
+
+    With ``reduce`` it is a bounded filter: the reduction is applied to every posterior before the next
+    prediction (CORA's reduced constrained-zonotope observer is Algorithm 1 plus this one line, e.g.
+    ``reduce=ss.CORA_GIRARD``). The estimates are then **outer bounds** of the exact posteriors,
+    ⟦x_k | y_{0:k}⟧ ⊆ posteriors[k], not the posteriors themselves; their complexity stays bounded.
 
     Parameters
     ----------
@@ -30,23 +37,30 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, detect_empty: bool = Tru
         Initial prior range ⟦x_0⟧.
     ys : array_like, shape (T+1, m)
         Measurements y_0..y_T.
+    reduce : ReductionMethod or sequence of ReductionMethod, optional
+        Order reduction applied to every posterior (see `setsmooth.reduce`), e.g. ``ss.CORA_GIRARD``
+        or ``(ss.Rescale('iter'), ss.EliminateConstraints(1), ss.Girard(1))``. None (default): the
+        exact filter.
     detect_empty : bool
-        Return `EmptySet` from the first empty posterior on. Emptiness is monotone in k, so this is
-        one feasibility program on the last posterior when the data are consistent (a bisection
-        otherwise), not one per step. With False the sets are returned as computed; an empty one is
-        still empty (``is_empty()``), only not simplified.
+        Return `EmptySet` from the first empty posterior on. Emptiness of the exact posteriors is
+        monotone in k, so this is one feasibility program on the last posterior when the data are
+        consistent (a bisection otherwise), not one per step (with ``reduce``: one per step). With
+        False the sets are returned as computed; an empty one is still empty (``is_empty()``), only
+        not simplified.
 
     Returns
     -------
     list of ConvexSet
-        ``posteriors[k]`` = ⟦x_k | y_{0:k}⟧. An empty posterior means the measurements are
-        inconsistent with the model (ill-posedness is data, not an exception). When X0, W or V has
-        no CZ form and X0 and W are bounded, the posteriors are `FilteredState`s: the same sets as
-        projections of one compiled trajectory program (`setsmooth.trajectory_program`), with one
-        emptiness program for the whole data set.
+        ``posteriors[k]`` = ⟦x_k | y_{0:k}⟧, or a superset of it with ``reduce``. An empty posterior
+        means the measurements are inconsistent with the model (ill-posedness is data, not an
+        exception). Without ``reduce``, when X0, W or V has no CZ form and X0 and W are bounded, the
+        posteriors are `FilteredState`s: the same sets as projections of one compiled trajectory
+        program (`setsmooth.trajectory_program`).
     """
     ys = as_measurements(ys, system.m)
     _check_state_set(X0, "X0", system.n)
+    if reduce is not None:
+        return _reduced_filter(system, X0, ys, as_methods(reduce, "reduce"), detect_empty)
     posteriors: list[ConvexSet] | None = None
     if any(S._flat_cz is None for S in (X0, system.W, system.V)):
         # Without a CZ form the recursion's sets nest O(k) deep, one CVXPY compilation per query:
@@ -64,6 +78,23 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, detect_empty: bool = Tru
     if detect_empty:
         first = _first_empty(posteriors)
         posteriors[first:] = [EmptySet(system.n) for _ in range(first, len(posteriors))]
+    return posteriors
+
+
+def _reduced_filter(system, X0: ConvexSet, ys: np.ndarray, methods, detect_empty: bool
+                    ) -> list[ConvexSet]:
+    """The filter with a reduction after every update. An outer bound of an empty set need not be
+    empty, so emptiness is not monotone along a reduced filter: each reduced posterior is checked
+    before the next prediction uses it."""
+    posteriors: list[ConvexSet] = []
+    prior = X0
+    for k, y in enumerate(ys):
+        if k > 0:
+            prior = _predict(system, k - 1, posteriors[-1])
+        posterior = apply_methods(_update(system, k, prior, y), methods)
+        if detect_empty and not isinstance(posterior, EmptySet) and posterior.is_empty():
+            posterior = EmptySet(system.n)
+        posteriors.append(posterior)
     return posteriors
 
 

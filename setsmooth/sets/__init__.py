@@ -8,10 +8,15 @@ from .empty import EmptySet
 from .hpolytope import HPolytope
 from .lazy import CartesianProduct, GeneralizedIntersection, Intersection, LinearMap, MinkowskiSum
 from .reals import Reals
+from .reduction import (CORA_COMBASTEL, CORA_GIRARD, Combastel, DropDependentConstraints, DropZeros,
+                        EliminateConstraints, Girard, IntervalHull, MergeParallelGenerators,
+                        ReductionMethod, Rescale, reduce)
 from .zonotope import Zonotope
 
 __all__ = [
     "ConvexSet", "Box", "Zonotope", "ConstrainedZonotope", "HPolytope", "Ellipsoid", "EmptySet",
     "Reals", "LinearMap", "MinkowskiSum", "Intersection", "GeneralizedIntersection",
-    "CartesianProduct",
+    "CartesianProduct", "reduce", "ReductionMethod", "DropZeros", "DropDependentConstraints",
+    "MergeParallelGenerators", "Rescale", "EliminateConstraints", "Girard", "Combastel", "IntervalHull",
+    "CORA_GIRARD", "CORA_COMBASTEL",
 ]

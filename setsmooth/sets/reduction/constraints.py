@@ -1,0 +1,167 @@
+"""Constraint elimination (Scott et al. 2016 §4.2): fewer equality constraints, an outer CZ.
+
+Eliminating factor j through a constraint row i with a_ij ≠ 0 solves that row for
+ξ_j = (b_i − Σ_{l≠j} a_il ξ_l)/a_ij and substitutes it (Scott (27) with Λ_G = G E_ji / a_ij,
+Λ_A = A E_ji / a_ij, (29)):
+
+    Z(G − Λ_G A, c + Λ_G b, A − Λ_A A, b − Λ_A b)   with row i and column j removed.
+
+This drops one constraint and one factor, and only loses the bound |ξ_j| ≤ h_j. So it is exact when
+that bound is implied by the others: for a free factor (h_j = ∞), and for a factor whose propagated
+range R_j (`rescale.propagate`) lies inside its bound. Otherwise it is an outer approximation, and
+the factor to give up is the one of smallest Hausdorff-error heuristic (Scott (A.8)): with
+r_j = max(0, max|R_j| − 1) after rescaling, the least-squares displacement δ with Aδ = 0, δ_j = r_j,
+minimizing ‖Gδ‖² + ‖δ‖², i.e. the KKT system [[GᵀG + I, Aᵀ], [A, 0]]; its value is r_j² / M_jj with
+M = [[GᵀG + I, Aᵀ], [A, 0]]⁻¹.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..box import Box
+from ..constrained_zonotope import ConstrainedZonotope
+from ..empty import EmptySet
+from ..zonotope import Zonotope
+from ._base import CZData, ReductionMethod
+from .exact import DropDependentConstraints, DropZeros
+from .rescale import propagate, rescale_data
+from ...linalg import independent_rows
+
+__all__ = ["EliminateConstraints", "eliminate_factor"]
+
+
+def eliminate_factor(d: CZData, j: int) -> CZData:
+    """Scott (27)/(29): drop the bound of factor j and eliminate it through a row where it appears.
+
+    The row is the one where |a_ij| is largest relative to the row's size: any row gives the same set
+    in exact arithmetic (CORA takes the first), this one is the best-conditioned pivot.
+    """
+    col = d.A[:, j]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rel = np.nan_to_num(np.abs(col) / np.abs(d.A).max(axis=1))
+    i = int(np.argmax(rel))
+    a = d.A[i, j]
+    row_A, row_b = d.A[i] / a, d.b[i] / a
+    G = d.G - np.outer(d.G[:, j], row_A)
+    c = d.c + d.G[:, j] * row_b
+    A = d.A - np.outer(col, row_A)
+    b = d.b - col * row_b
+    keep_rows = np.arange(d.nc) != i
+    keep_cols = np.arange(d.ng) != j
+    return CZData(G[:, keep_cols], c, A[np.ix_(keep_rows, keep_cols)], b[keep_rows], d.h[keep_cols],
+                  d.sparse)
+
+
+def hausdorff_heuristic(d: CZData, r: np.ndarray) -> np.ndarray:
+    """Scott (A.8): r_j² / M_jj, the least ‖Gδ‖² + ‖δ‖² over Aδ = 0 with δ_j = r_j (∞ where r_j = ∞)."""
+    ng, nc = d.ng, d.nc
+    Q = np.block([[d.G.T @ d.G + np.eye(ng), d.A.T], [d.A, np.zeros((nc, nc))]])
+    rhs = np.vstack([np.eye(ng), np.zeros((nc, ng))])
+    try:
+        M = np.linalg.solve(Q, rhs)
+    except np.linalg.LinAlgError:  # A of numerically deficient rank: the least-squares solution
+        M = np.linalg.lstsq(Q, rhs, rcond=None)[0]
+    diag = np.diag(M[:ng])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        H = np.where(r == 0.0, 0.0, r ** 2 / diag)
+    return np.where(np.isfinite(r), H, np.inf)
+
+
+@dataclass(frozen=True)
+class EliminateConstraints(ReductionMethod):
+    """Reduce a CZ to at most ``max_constraints`` equality constraints (Scott et al. 2016 §4.2). Outer.
+
+    First, exactly: zero and dependent rows are dropped and free factors (h = ∞) that appear in a
+    constraint are eliminated. Then, one factor at a time: rescale (`Rescale('iter')`); if some
+    factor's propagated range lies inside its bound, eliminate it (exact, taken even below the count
+    asked for); otherwise, while more than ``max_constraints`` rows remain, eliminate the factor of
+    smallest Hausdorff-error heuristic (A.8) through a row where it appears (eqs. (27)/(29)). The
+    result contains the input.
+
+    Parameters
+    ----------
+    max_constraints : int
+        The largest number of constraints the result may keep (≥ 0).
+
+    Examples
+    --------
+    >>> import numpy as np, setsmooth as ss
+    >>> Z = ss.ConstrainedZonotope(np.eye(3), np.zeros(3), A=[[1.0, 1.0, 0.0], [0.0, 1.0, 1.0]], b=[0.5, 0.2])
+    >>> ss.reduce(Z, ss.EliminateConstraints(1)).nc <= 1
+    True
+    """
+
+    max_constraints: int = 1
+
+    def __post_init__(self):
+        k = self.max_constraints
+        if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 0:
+            raise ValueError(f"max_constraints must be an integer ≥ 0, got {k!r}")
+
+    def _on_zonotope(self, Z: Zonotope) -> Zonotope:
+        return Z  # no constraints
+
+    def _on_box(self, B: Box) -> Box:
+        return B
+
+    def _on_constrained_zonotope(self, Z: ConstrainedZonotope):
+        S = DropDependentConstraints().apply(DropZeros().apply(Z))
+        if isinstance(S, EmptySet) or S.nc == 0:
+            return S
+        d = CZData.of(S)
+        # Free factors in a constraint: their elimination loses nothing.
+        while True:
+            free = np.flatnonzero(np.isinf(d.h) & np.any(d.A != 0.0, axis=0))
+            if free.size == 0:
+                break
+            d = eliminate_factor(d, int(free[0]))
+        while d.nc:
+            step = _rescaled(d)
+            if step is None:
+                return EmptySet(Z.dim)
+            d, r, inside = step
+            used = np.any(d.A != 0.0, axis=0)
+            exact = np.flatnonzero(inside & used)
+            if exact.size:  # lossless: always taken, also below the count asked for
+                d = eliminate_factor(d, int(exact[0]))
+                continue
+            if d.nc <= self.max_constraints:
+                break
+            # Only a factor that appears in a constraint can be eliminated (one always does: rows
+            # are independent, hence non-zero).
+            candidates = np.flatnonzero(used)
+            H = hausdorff_heuristic(d, r)[candidates]
+            d = eliminate_factor(d, int(candidates[np.argmin(H)]))
+        return DropZeros().apply(d.to_set())
+
+
+def _rescaled(d: CZData):
+    """Propagate, rescale to the propagated box, and keep independent rows.
+
+    Returns ``(data, r, inside)`` or None when the set is proven empty. ``inside[j]``: the
+    propagated range R_j lies inside factor j's bound (compared on outward-rounded bounds, so it is
+    never claimed wrongly), which makes eliminating j exact. ``r[j] = max(0, max|R_j| − 1)`` in the
+    rescaled coordinates, the measure of the heuristic (A.8); ∞ for a free factor.
+    """
+    lo, hi, Rlo, Rhi, crossed = propagate(d.A, d.b, d.h)
+    if crossed and d.to_set().is_empty():
+        return None
+    out = rescale_data(d, lo, hi)
+    bounded = np.isfinite(lo) & np.isfinite(hi)
+    inside = bounded & (Rlo >= -d.h) & (Rhi <= d.h)
+    with np.errstate(invalid="ignore", divide="ignore"):  # ∞ − ∞ on free factors, masked
+        m = np.where(bounded, (lo + hi) / 2, 0.0)
+        half = np.where(bounded, (hi - lo) / 2, 1.0)
+        reach = np.maximum(np.abs(Rlo - m), np.abs(Rhi - m)) / half
+    r = np.where(inside | (half == 0.0), 0.0, np.where(bounded, np.maximum(0.0, reach - 1.0), np.inf))
+    if not np.any(bounded & (lo == hi)):
+        return out, r, inside  # columns scaled by r > 0: the rank is unchanged
+    # A factor pinned to a point has a zero column now, which can leave rows dependent; the
+    # heuristic's KKT matrix needs A of full row rank. Dropping a dependent row loses nothing.
+    basis = independent_rows(out.A, out.b)
+    if not basis.consistent and out.to_set().is_empty():
+        return None
+    return out.keep_rows(basis.keep), r, inside

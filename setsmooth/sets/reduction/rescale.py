@@ -1,0 +1,261 @@
+"""Rescaling (Scott et al. 2016 §4.1): shrink each factor's box to the range the constraints allow.
+
+For Z(G, c, A, b, h), every feasible factor vector ξ lies in a box E = [lo, hi] ⊆ [−h, h]; replacing
+ξ_j = m_j + r_j ξ'_j with m = (lo + hi)/2, r = (hi − lo)/2 and |ξ'_j| ≤ 1 gives the same set,
+
+    Z = Z(G diag(r), c + G m, A diag(r), b − A m, 1),
+
+in the form Z(G, c, A, b, h) again. Two ways to find E:
+
+* ``Rescale("iter")`` (CORA's 'iter'): interval propagation through Aξ = b. [A b] is first brought to
+  reduced row-echelon form by Gauss–Jordan elimination with full pivoting and its rows scaled by their
+  1-norm, then one sweep E_j ← E_j ∩ (b_i − Σ_{l≠j} A_il E_l)/A_ij over the rows i. Each row updates
+  all its factors at once from the boxes left by the previous rows (CORA also updates factor by
+  factor within a row; after the Gauss–Jordan step a row's pivot factor is the one it tightens most,
+  and the row-at-once update is one vectorized operation). The propagated range R_j (before
+  the intersection with E_j) is what constraint elimination (§4.2) uses.
+* ``Rescale("exact")``: the tightest box, by 2·ng certified LPs on the CZ fast path.
+
+Soundness in floating point: the preconditioned rows are P·A and P·b evaluated in floating point, so
+each row is treated as an interval equation whose coefficients carry the rounding bound γ·|P||A|, and
+every interval sum and quotient is rounded outward. Every computed E_j therefore contains the exact
+range of the data as stored, and an empty E_j (lo > hi) proves those data infeasible. The data carry
+the rounding of the set algebra that built them, though, and a set that is a single point comes out a
+hair infeasible: the result is `EmptySet` only when the emptiness program (`is_empty`, the library's
+tolerance policy) agrees, and otherwise the crossed bounds are kept as a (tiny) interval. Free factors
+(h = ∞) take part exactly: they stay free unless the constraints bound them, in which case they
+become bounded factors of the same set.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ... import tolerances as tol
+from ..box import Box
+from ..constrained_zonotope import ConstrainedZonotope
+from ..empty import EmptySet
+from ..zonotope import Zonotope
+from ...solvers import SolverError
+from ._base import CZData, ReductionMethod, round_down, round_up
+
+__all__ = ["Rescale", "propagate", "rescale_data"]
+
+
+def gauss_jordan(A: np.ndarray) -> np.ndarray:
+    """A row transform P (rank × nc) with P·A in reduced row-echelon form, full pivoting.
+
+    Pivots are the largest remaining entry in magnitude; elimination stops when it falls below
+    ``RANK_TOL`` times the largest entry of A. Rows of P are scaled so that each row of P·A has
+    1-norm one.
+    """
+    nc, ng = A.shape
+    M = np.hstack([A, np.eye(nc)])
+    # |entries| of the rows and columns still available; used ones are marked −1.
+    free = np.abs(A)
+    threshold = tol.RANK_TOL * free.max(initial=0.0)
+    rows, cols = [], []
+    for _ in range(min(nc, ng)):
+        i, j = divmod(int(np.argmax(free)), ng)
+        if free[i, j] <= threshold:
+            break
+        M[i] /= M[i, j]
+        factor = M[:, j].copy()
+        factor[i] = 0.0
+        M -= np.outer(factor, M[i])
+        rows.append(i)
+        cols.append(j)
+        free = np.abs(M[:, :ng])
+        free[rows] = -1.0
+        free[:, cols] = -1.0
+    order = rows
+    P = M[order, ng:]
+    norms = np.abs(M[order, :ng]).sum(axis=1)
+    return P / norms[:, None]
+
+
+def propagate(A: np.ndarray, b: np.ndarray, h: np.ndarray):
+    """One sweep of preconditioned interval propagation through Aξ = b, |ξ| ≤ h.
+
+    Returns
+    -------
+    (lo, hi, Rlo, Rhi, crossed)
+        E = [lo, hi] ⊇ the range of every feasible ξ_j; R = [Rlo, Rhi] ⊇ the range ξ_j can take when
+        its own bound is dropped (Scott §4.2). ``crossed``: some E_j came out empty, which proves the
+        stored data infeasible; the crossed bounds are then returned swapped (see `settle_empty`).
+    """
+    nc, ng = A.shape
+    lo, hi = -h.astype(float), h.astype(float)
+    Rlo, Rhi = np.full(ng, -np.inf), np.full(ng, np.inf)
+    if nc == 0:
+        return lo, hi, Rlo, Rhi, False
+    P = gauss_jordan(A)
+    Ap, bp = P @ A, P @ b
+    # fl(P·A) = P·A + E with |E| ≤ γ_nc |P||A| (and alike for b): each row is an interval equation
+    # Σ_l [alo_l, ahi_l] ξ_l ∋ bp_i ± db_i.
+    # The factor 2 covers the rounding of |P||A| itself; an exact zero stays zero.
+    g = 2.0 * tol.gamma(nc + 1)
+    dA = g * (np.abs(P) @ np.abs(A))
+    db = g * (np.abs(P) @ np.abs(b))
+    # dA = 0 only where every term of the product was zero: that coefficient is exactly 0.
+    empty_here = False
+    Alo = np.where(dA == 0.0, Ap, round_down(Ap - dA))
+    Ahi = np.where(dA == 0.0, Ap, round_up(Ap + dA))
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        for i in range(Ap.shape[0]):
+            cols = np.flatnonzero((Alo[i] != 0.0) | (Ahi[i] != 0.0))
+            qlo, qhi = _row(Alo[i, cols], Ahi[i, cols], lo[cols], hi[cols], bp[i], db[i])
+            qlo = np.maximum(qlo, Rlo[cols])
+            qhi = np.minimum(qhi, Rhi[cols])
+            Rlo[cols], Rhi[cols] = qlo, qhi
+            nlo, nhi = np.maximum(lo[cols], qlo), np.minimum(hi[cols], qhi)
+            crossed = nlo > nhi
+            if crossed.any():
+                # Rigorous for the data as stored, but the data carry the rounding of the set algebra
+                # that built them: a set that is a single point (extreme noise realizations) comes
+                # out a hair empty. The caller decides (by the LP's emptiness policy); meanwhile the
+                # crossed bounds are swapped, which keeps every estimate between them.
+                empty_here = True
+                nlo[crossed], nhi[crossed] = nhi[crossed], nlo[crossed]
+            lo[cols], hi[cols] = nlo, nhi
+    return lo, hi, Rlo, Rhi, empty_here
+
+
+def _row(alo, ahi, xlo, xhi, beta, dbeta):
+    """The range of each ξ_j implied by one row Σ_l [alo_l, ahi_l] ξ_l ∈ [β − dβ, β + dβ] and the
+    other factors' boxes ξ_l ∈ [xlo_l, xhi_l], rounded outward.
+    """
+    p1, p2, p3, p4 = alo * xlo, alo * xhi, ahi * xlo, ahi * xhi
+    # fmin/fmax skip the NaN of 0·∞ (a zero coefficient endpoint against an unbounded box): the
+    # other candidates then carry the bound, as the interval product requires.
+    tlo = np.fmin(np.fmin(p1, p2), np.fmin(p3, p4))
+    thi = np.fmax(np.fmax(p1, p2), np.fmax(p3, p4))
+    slo, shi = tlo.sum(), thi.sum()
+    if np.isfinite(slo) and np.isfinite(shi):
+        olo, ohi = slo - tlo, shi - thi
+        mag = np.abs(tlo).sum() + np.abs(thi).sum()
+    else:
+        olo, ohi, mag = _others_with_infinities(tlo, thi)
+    # One bound for every rounding so far (products, sums, the subtraction of the own term, the two
+    # operations below): γ_{k+4} times the magnitudes involved.
+    err = tol.gamma(tlo.size + 4) * (mag + abs(beta) + dbeta)
+    nlo = beta - dbeta - ohi - err
+    nhi = beta + dbeta - olo + err
+    q1, q2, q3, q4 = nlo / alo, nlo / ahi, nhi / alo, nhi / ahi
+    qlo = round_down(np.fmin(np.fmin(q1, q2), np.fmin(q3, q4)))
+    qhi = round_up(np.fmax(np.fmax(q1, q2), np.fmax(q3, q4)))
+    # A divisor interval containing 0 bounds nothing.
+    ok = (alo > 0.0) | (ahi < 0.0)
+    return np.where(ok, qlo, -np.inf), np.where(ok, qhi, np.inf)
+
+
+def _others_with_infinities(tlo: np.ndarray, thi: np.ndarray):
+    """Σ_{l≠j} [tlo_l, thi_l] for each j when some terms are infinite (counted, not subtracted)."""
+    flo, fhi = np.isfinite(tlo), np.isfinite(thi)
+    slo, shi = tlo[flo].sum(), thi[fhi].sum()
+    nlo, nhi = np.count_nonzero(~flo), np.count_nonzero(~fhi)
+    olo = np.where(flo, slo - np.where(flo, tlo, 0.0), slo)
+    ohi = np.where(fhi, shi - np.where(fhi, thi, 0.0), shi)
+    olo = np.where(nlo - (~flo) > 0, -np.inf, olo)
+    ohi = np.where(nhi - (~fhi) > 0, np.inf, ohi)
+    return olo, ohi, np.abs(tlo[flo]).sum() + np.abs(thi[fhi]).sum()
+
+
+def rescale_data(d: CZData, lo: np.ndarray, hi: np.ndarray) -> CZData:
+    """Z(G diag(r), c + G m, A diag(r), b − A m, 1) for factor boxes [lo, hi] (free where unbounded)."""
+    bounded = np.isfinite(lo) & np.isfinite(hi)
+    point = bounded & (lo == hi)
+    with np.errstate(invalid="ignore"):  # ∞ − ∞ on free factors, masked by `bounded`
+        m = np.where(bounded, np.where(point, lo, (lo + hi) / 2), 0.0)
+    # r with [m − r, m + r] ⊇ [lo, hi] despite the rounding of m; a factor fixed to a point gets an
+    # exactly zero column.
+        r = np.where(bounded, np.where(point, 0.0, round_up(np.maximum(hi - m, m - lo))), 1.0)
+    h = np.where(bounded, 1.0, np.inf)
+    return CZData(d.G * r, d.c + d.G @ m, d.A * r, d.b - d.A @ m, h, d.sparse)
+
+
+@dataclass(frozen=True)
+class Rescale(ReductionMethod):
+    """Rescale the factors to the range the constraints allow (Scott et al. 2016 §4.1). Exact.
+
+    Parameters
+    ----------
+    method : {'iter', 'exact'}
+        'iter': interval propagation through Aξ = b after full-pivoting Gauss–Jordan preconditioning
+        of [A b] (CORA's ``rescale(·, 'iter')``); 'exact': the tightest factor box, 2·ng certified
+        LPs on the fast path.
+
+    Notes
+    -----
+    The set is unchanged; a factor whose propagated range is unbounded keeps its bound (a free factor
+    stays free). An empty propagated range gives `EmptySet` when `is_empty` agrees (see the module notes).
+
+    Examples
+    --------
+    >>> import numpy as np, setsmooth as ss
+    >>> Z = ss.ConstrainedZonotope(np.eye(2), np.zeros(2), A=[[1.0, 1.0]], b=[1.5])
+    >>> R = ss.reduce(Z, ss.Rescale("iter"))
+    >>> np.round(R.h, 6).tolist(), round(R.support([1.0, 0.0]), 6)
+    ([1.0, 1.0], 1.0)
+    """
+
+    method: str = "iter"
+    exact = True
+
+    def __post_init__(self):
+        if self.method not in ("iter", "exact"):
+            raise ValueError(f"Rescale method must be 'iter' or 'exact', got {self.method!r}")
+
+    def _on_zonotope(self, Z: Zonotope) -> Zonotope:
+        return Z  # no constraints: every factor already ranges over all of [−1, 1]
+
+    def _on_box(self, B: Box) -> Box:
+        return B
+
+    def _on_constrained_zonotope(self, Z: ConstrainedZonotope):
+        if Z.nc == 0:
+            return Z
+        d = CZData.of(Z)
+        bounds = propagate(d.A, d.b, d.h) if self.method == "iter" else _exact_bounds(Z, d)
+        if bounds[4] and Z.is_empty():
+            return EmptySet(Z.dim)
+        return rescale_data(d, bounds[0], bounds[1]).to_set()
+
+
+def _exact_bounds(Z: ConstrainedZonotope, d: CZData):
+    """The factor box by certified LPs: the interval hull of Z(I, 0, A, b, h), rounded outward.
+
+    A factor whose LP the solver cannot settle (`SolverError`) keeps its interval-propagation bound,
+    which is valid (and rigorous) but may be looser.
+    """
+    factors = ConstrainedZonotope._trusted(np.eye(Z.ng), np.zeros(Z.ng), Z.A, Z.b, Z.h)
+    eye = np.eye(Z.ng)
+    try:
+        values = factors.support_many(np.vstack([eye, -eye]), certified=True)
+    except SolverError:
+        values = _one_by_one(factors, np.vstack([eye, -eye]))
+    iter_lo, iter_hi, _, _, crossed = propagate(d.A, d.b, d.h)
+    if np.isneginf(values).any():
+        return iter_lo, iter_hi, None, None, True
+    hi, lo = values[:Z.ng], -values[Z.ng:]
+    # The weak-duality bound is itself evaluated in floating point: widen by its rounding bound.
+    scale = 1.0 + np.abs(Z.b).max(initial=0.0) + np.max(Z.h[np.isfinite(Z.h)], initial=0.0)
+    margin = 8.0 * tol.gamma(Z.ng + Z.nc + 2) * scale
+    with np.errstate(invalid="ignore"):
+        lo = np.where(np.isnan(lo), iter_lo, np.maximum(iter_lo, round_down(lo - margin)))
+        hi = np.where(np.isnan(hi), iter_hi, np.minimum(iter_hi, round_up(hi + margin)))
+    crossed = crossed or bool(np.any(lo > hi))
+    return np.minimum(lo, hi), np.maximum(lo, hi), None, None, crossed
+
+
+def _one_by_one(S: ConstrainedZonotope, D: np.ndarray) -> np.ndarray:
+    """Certified support values one direction at a time; NaN where the solver gives up."""
+    out = np.full(D.shape[0], np.nan)
+    for i, d in enumerate(D):
+        try:
+            out[i] = S.support_many(d[None, :], certified=True)[0]
+        except SolverError:
+            pass
+    return out

@@ -1,0 +1,354 @@
+"""Order reduction: exact methods keep the set, outer methods contain it, counts are as asked.
+
+Exactness and containment are checked on support values in random directions (hypothesis strategies
+of every representation, sparse and extended CZs included) and against 2-D vertex enumeration of the
+input; containment also on the certified values of the reduced set.
+"""
+
+from fractions import Fraction
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import setsmooth as ss
+from setsmooth.sets.reduction.rescale import propagate
+from tests.sets.strategies import (assert_supports_close, constrained_zonotopes, dims, ellipsoids,
+                                   hpolytopes, rngs, sets, support_scale, zonotopes)
+
+EXACT = [ss.DropZeros(), ss.DropDependentConstraints(), ss.MergeParallelGenerators(),
+         ss.Rescale("iter"), ss.Rescale("exact")]
+OUTER = [ss.EliminateConstraints(1), ss.EliminateConstraints(0), ss.Girard(1), ss.Girard(2.5),
+         ss.Combastel(1), ss.Combastel(1.5), ss.IntervalHull(), ss.CORA_GIRARD, ss.CORA_COMBASTEL]
+
+PROPERTY = settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+FEW = settings(PROPERTY, max_examples=12)
+
+
+def _label(m):
+    return repr(m) if isinstance(m, ss.ReductionMethod) else "+".join(repr(x) for x in m)
+
+
+def _random_directions(rng, n, k):
+    return np.vstack([rng.standard_normal((k, n)), np.eye(n), -np.eye(n)])
+
+
+def _assert_superset(S, R, D, rel=1e-7):
+    """h_R(d) ≥ h_S(d) in every direction, up to the solver's accuracy on h_S."""
+    hs = S.support_many(D)
+    hr = R.support_many(D)
+    scale = support_scale(hs, hr)
+    assert np.all(hr >= hs - rel * scale), (hs - hr).max() / scale
+
+
+def _lifted_with_sparse_and_parallel(rng, n, ng, nc, infinite=0):
+    """A CZ with sparse storage, a duplicated (parallel) column and a zero factor: every exact method
+    has something to do."""
+    G = rng.standard_normal((n, ng))
+    A = rng.standard_normal((nc, ng))
+    G[:, 1], A[:, 1] = -2.0 * G[:, 0], -2.0 * A[:, 0]  # parallel lifted columns
+    G[:, 2], A[:, 2] = 0.0, 0.0  # a factor that moves nothing
+    h = rng.uniform(0.5, 1.5, ng)
+    if infinite:
+        h[3:3 + infinite] = np.inf
+    xi0 = rng.uniform(-0.5, 0.5, ng) * np.where(np.isfinite(h), h, 1.0)
+    A = np.vstack([A, 2.0 * A[:1]])  # a dependent row
+    b = A @ xi0
+    return ss.ConstrainedZonotope(sp.csc_matrix(G), rng.uniform(-1, 1, n), A=sp.csc_matrix(A), b=b, h=h)
+
+
+# --------------------------------------------------------------------------------------------------
+# Exact methods keep every support value
+# --------------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("method", EXACT, ids=_label)
+@PROPERTY
+@given(data=st.data())
+def test_exact_method_keeps_every_support_value(method, data):
+    n = data.draw(dims(4))
+    drawn = data.draw(st.one_of(constrained_zonotopes(n), constrained_zonotopes(n, bounded=False),
+                                zonotopes(n)))
+    S = drawn.set
+    rng = data.draw(rngs())
+    D = _random_directions(rng, n, 12)
+    R = ss.reduce(S, method)
+    assert type(R) is type(S)
+    assert_supports_close(R.support_many(D), S.support_many(D), rel=1e-6)
+
+
+@pytest.mark.parametrize("method", EXACT, ids=_label)
+@pytest.mark.parametrize("seed", range(4))
+def test_exact_method_keeps_sparse_cz_with_parallel_zero_and_free_factors(method, seed):
+    rng = np.random.default_rng(seed)
+    S = _lifted_with_sparse_and_parallel(rng, 3, 9, 3, infinite=seed % 2)
+    D = _random_directions(rng, 3, 20)
+    R = ss.reduce(S, method)
+    assert_supports_close(R.support_many(D), S.support_many(D), rel=1e-6)
+    assert sp.issparse(R.G) and sp.issparse(R.A)
+
+
+def test_exact_methods_shrink_the_representation():
+    S = _lifted_with_sparse_and_parallel(np.random.default_rng(0), 3, 9, 3)
+    assert ss.reduce(S, ss.DropZeros()).ng == S.ng - 1
+    assert ss.reduce(S, ss.DropDependentConstraints()).nc == S.nc - 1
+    assert ss.reduce(S, ss.MergeParallelGenerators()).ng == S.ng - 1
+
+
+def test_merging_parallel_zonotope_generators_is_exact():
+    G = np.array([[1.0, -2.0, 0.5, 1.0], [1.0, -2.0, 0.0, 3.0]])
+    Z = ss.Zonotope(G, [0.3, -0.2])
+    R = ss.reduce(Z, ss.MergeParallelGenerators())
+    assert R.ng == 3
+    D = _random_directions(np.random.default_rng(1), 2, 30)
+    assert_supports_close(R.support_many(D), Z.support_many(D), rel=1e-12)
+
+
+def test_a_free_factor_merged_with_a_parallel_bounded_one_stays_free():
+    Z = ss.ConstrainedZonotope([[1.0, 2.0, 0.0]], [0.0], A=[[1.0, 2.0, 1.0]], b=[0.0], h=[np.inf, 1.0, 1.0])
+    R = ss.reduce(Z, ss.MergeParallelGenerators())
+    assert R.ng == 2 and np.isinf(R.h).sum() == 1
+    # x = ξ0 + 2ξ1 = −ξ2 on the constraint: [−1, 1], before and after.
+    assert R.support([1.0]) == pytest.approx(1.0, abs=1e-7)
+    assert R.support([-1.0]) == pytest.approx(1.0, abs=1e-7)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_rescale_exact_makes_every_factor_reach_its_bounds(seed):
+    rng = np.random.default_rng(seed)
+    ng, nc = 6, 3
+    A = rng.standard_normal((nc, ng))
+    Z = ss.ConstrainedZonotope(rng.standard_normal((2, ng)), np.zeros(2), A=A,
+                               b=A @ rng.uniform(-0.6, 0.6, ng))
+    R = ss.reduce(Z, ss.Rescale("exact"))
+    factors = ss.ConstrainedZonotope(np.eye(R.ng), np.zeros(R.ng), A=R.A, b=R.b, h=R.h)
+    hull = factors.interval_hull()
+    # The tightest box, rescaled to [−1, 1] (up to the outward rounding margin).
+    np.testing.assert_allclose(hull.hi, 1.0, atol=1e-6)
+    np.testing.assert_allclose(hull.lo, -1.0, atol=1e-6)
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_propagated_factor_ranges_contain_the_exact_ranges(seed):
+    rng = np.random.default_rng(seed)
+    ng, nc = int(rng.integers(3, 9)), int(rng.integers(1, 4))
+    A = rng.standard_normal((nc, ng)) * 10.0 ** rng.uniform(-3, 3, (nc, 1))
+    h = rng.uniform(0.5, 2.0, ng)
+    b = A @ (rng.uniform(-0.9, 0.9, ng) * h)
+    lo, hi, Rlo, Rhi, crossed = propagate(A, b, h)
+    assert not crossed
+    exact = ss.ConstrainedZonotope(np.eye(ng), np.zeros(ng), A=A, b=b, h=h).interval_hull()
+    scale = 1e-8 * (1 + h.max())
+    assert np.all(lo <= exact.lo + scale) and np.all(hi >= exact.hi - scale)
+    assert np.all(Rlo <= lo) and np.all(Rhi >= hi)
+
+
+def test_propagation_pins_a_factor_exactly_determined_by_one_row():
+    # ξ0 = 0.3 exactly (row 1), so ξ1 + ξ2 = 0.1·3 − ... every bound stays a rigorous enclosure.
+    A = np.array([[3.0, 0.0, 0.0], [1.0, 1.0, 1.0]])
+    b = np.array([0.9, 0.1])
+    lo, hi, _, _, _ = propagate(A, b, np.ones(3))
+    assert lo[0] <= 0.3 <= hi[0] and hi[0] - lo[0] < 1e-14
+
+
+# --------------------------------------------------------------------------------------------------
+# Outer methods contain the set
+# --------------------------------------------------------------------------------------------------
+
+@FEW
+@given(data=st.data())
+def test_every_outer_method_contains_the_set_in_200_directions(data):
+    n = data.draw(dims(4))
+    S = data.draw(st.one_of(constrained_zonotopes(n), zonotopes(n))).set
+    rng = data.draw(rngs())
+    D = _random_directions(rng, n, 200)
+    hs = S.support_many(D)
+    for method in OUTER:
+        R = ss.reduce(S, method)
+        hr = R.support_many(D, certified=isinstance(R, ss.ConstrainedZonotope) and R.nc > 0)
+        scale = support_scale(hs, hr)
+        assert np.all(hr >= hs - 1e-7 * scale), (_label(method), (hs - hr).max() / scale)
+
+
+@pytest.mark.parametrize("kind", ["cz", "zonotope"])
+@pytest.mark.parametrize("seed", range(5))
+def test_outer_methods_contain_the_vertices_of_2d_sets(seed, kind):
+    rng = np.random.default_rng(seed)
+    ng, nc = 7, 3
+    A = rng.standard_normal((nc, ng))
+    if kind == "cz":
+        S = ss.ConstrainedZonotope(rng.standard_normal((2, ng)), rng.uniform(-1, 1, 2), A=A,
+                                   b=A @ rng.uniform(-0.7, 0.7, ng))
+    else:
+        S = ss.Zonotope(rng.standard_normal((2, ng)), rng.uniform(-1, 1, 2))
+    V = S.vertices_2d()
+    angles = np.linspace(0, 2 * np.pi, 200, endpoint=False) + 0.05
+    D = np.column_stack([np.cos(angles), np.sin(angles)])
+    oracle = (D @ V.T).max(axis=1)  # h_S(d) from the vertex enumeration
+    for method in OUTER + EXACT:
+        R = ss.reduce(S, method)
+        hr = R.support_many(D)
+        assert np.all(hr >= oracle - 1e-7 * (1 + np.abs(oracle).max())), _label(method)
+        if method in EXACT:
+            assert_supports_close(hr, oracle, rel=1e-6)
+
+
+def test_interval_hull_of_a_zonotope_is_rigorous_in_floating_point():
+    # Radii are sums of 0.1's, which round; the box must contain the exact rational sum.
+    G = np.full((1, 37), 0.1)
+    c = np.array([0.3])
+    box = ss.reduce(ss.Zonotope(G, c), ss.IntervalHull())
+    exact_hi = Fraction(0.3) + 37 * Fraction(0.1)
+    exact_lo = Fraction(0.3) - 37 * Fraction(0.1)
+    assert Fraction(box.hi[0]) >= exact_hi and Fraction(box.lo[0]) <= exact_lo
+
+
+def test_girard_box_is_rigorous_in_floating_point():
+    G = np.full((1, 40), 0.1)
+    R = ss.reduce(ss.Zonotope(G, [0.0]), ss.Girard(1))
+    assert R.ng == 1 and Fraction(R.G[0, 0]) >= 40 * Fraction(0.1)
+
+
+# --------------------------------------------------------------------------------------------------
+# Counts after reduction
+# --------------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("order", [1, 1.5, 2, 3.7])
+@pytest.mark.parametrize("method", [ss.Girard, ss.Combastel])
+def test_generator_reduction_reaches_the_order_asked(order, method):
+    rng = np.random.default_rng(0)
+    for n in (1, 2, 5):
+        Z = ss.Zonotope(rng.standard_normal((n, 6 * n)), np.zeros(n))
+        assert ss.reduce(Z, method(order)).ng <= np.floor(order * n)
+        ng, nc = 5 * n + 3, n + 1
+        A = rng.standard_normal((nc, ng))
+        C = ss.ConstrainedZonotope(rng.standard_normal((n, ng)), np.zeros(n), A=A,
+                                   b=A @ rng.uniform(-0.5, 0.5, ng))
+        R = ss.reduce(C, method(order))
+        assert R.nc == nc and R.ng - R.nc <= order * n  # degrees-of-freedom order
+
+
+@pytest.mark.parametrize("k", [0, 1, 3])
+def test_eliminate_constraints_reaches_the_count_asked(k):
+    rng = np.random.default_rng(k)
+    for n, ng, nc in [(2, 10, 6), (4, 14, 7), (3, 9, 2)]:
+        A = rng.standard_normal((nc, ng))
+        Z = ss.ConstrainedZonotope(rng.standard_normal((n, ng)), np.zeros(n), A=A,
+                                   b=A @ rng.uniform(-0.5, 0.5, ng))
+        R = ss.reduce(Z, ss.EliminateConstraints(k))
+        # Each elimination removes one factor with its constraint: degrees of freedom never grow.
+        assert R.nc <= k and R.ng - R.nc <= Z.ng - Z.nc
+
+
+def test_cora_pipeline_keeps_one_constraint_and_dof_order_one():
+    rng = np.random.default_rng(5)
+    n, ng, nc = 4, 20, 8
+    A = rng.standard_normal((nc, ng))
+    Z = ss.ConstrainedZonotope(rng.standard_normal((n, ng)), np.zeros(n), A=A, b=A @ rng.uniform(-0.5, 0.5, ng))
+    for pipeline in (ss.CORA_GIRARD, ss.CORA_COMBASTEL):
+        R = ss.reduce(Z, pipeline)
+        assert R.nc <= 1 and R.ng - R.nc <= n
+    assert ss.CORA_GIRARD == (ss.Rescale("iter"), ss.EliminateConstraints(1), ss.Girard(1))
+    assert ss.CORA_COMBASTEL == (ss.Rescale("iter"), ss.EliminateConstraints(1), ss.Combastel(1))
+
+
+# --------------------------------------------------------------------------------------------------
+# Extended CZs, empty sets, unsupported types, bad input
+# --------------------------------------------------------------------------------------------------
+
+def test_eliminating_free_factors_loses_nothing():
+    # Two free factors in two generic constraints: EliminateConstraints(0) only eliminates free
+    # factors, which is exact.
+    rng = np.random.default_rng(2)
+    ng, nc = 6, 2
+    h = np.ones(ng)
+    h[:nc] = np.inf
+    A = rng.standard_normal((nc, ng))
+    Z = ss.ConstrainedZonotope(rng.standard_normal((3, ng)), np.zeros(3), A=A,
+                               b=A @ rng.uniform(-0.5, 0.5, ng), h=h)
+    R = ss.reduce(Z, ss.EliminateConstraints(0))
+    assert R.nc == 0 and np.isfinite(R.h).all()
+    D = _random_directions(rng, 3, 30)
+    assert_supports_close(R.support_many(D), Z.support_many(D), rel=1e-6)
+
+
+def test_unbounded_cz_stays_unbounded_in_the_same_directions():
+    Z = ss.ConstrainedZonotope([[1.0, 0.0, 1.0], [0.0, 1.0, 1.0]], [0.0, 0.0], A=[[0.0, 1.0, 1.0]],
+                               b=[0.2], h=[np.inf, 1.0, 1.0])
+    D = _random_directions(np.random.default_rng(0), 2, 10)
+    for method in EXACT + [ss.EliminateConstraints(0), ss.IntervalHull(), ss.Girard(3)]:
+        R = ss.reduce(Z, method)
+        assert np.array_equal(np.isinf(R.support_many(D)), np.isinf(Z.support_many(D))) or \
+            not method.exact, _label(method)
+        assert np.all(R.support_many(D) >= Z.support_many(D) - 1e-7)
+
+
+def test_generator_reduction_refuses_free_factors_it_cannot_keep():
+    Z = ss.ConstrainedZonotope(np.eye(2, 4), [0.0, 0.0], A=[[1.0, 1.0, 1.0, 1.0]], b=[0.0],
+                               h=[np.inf, 1.0, 1.0, 1.0])
+    with pytest.raises(ValueError, match="free factors"):
+        ss.reduce(Z, ss.Girard(1))
+
+
+def test_inconsistent_constraints_give_the_empty_set():
+    Z = ss.ConstrainedZonotope(np.eye(2), [0.0, 0.0], A=[[1.0, 1.0], [2.0, 2.0]], b=[0.5, 3.0])
+    assert isinstance(ss.reduce(Z, ss.DropDependentConstraints()), ss.EmptySet)
+    zero_row = ss.ConstrainedZonotope(np.eye(2), [0.0, 0.0], A=[[0.0, 0.0]], b=[1.0])
+    assert isinstance(ss.reduce(zero_row, ss.DropZeros()), ss.EmptySet)
+    infeasible = ss.ConstrainedZonotope(np.eye(2), [0.0, 0.0], A=[[1.0, 1.0]], b=[3.0])
+    assert isinstance(ss.reduce(infeasible, ss.Rescale("iter")), ss.EmptySet)
+    assert isinstance(ss.reduce(infeasible, ss.Rescale("exact")), ss.EmptySet)
+    assert isinstance(ss.reduce(infeasible, ss.CORA_GIRARD), ss.EmptySet)
+
+
+@pytest.mark.parametrize("method", EXACT + OUTER, ids=_label)
+def test_empty_set_in_gives_empty_set_out(method):
+    assert ss.reduce(ss.EmptySet(3), method) == ss.EmptySet(3)
+
+
+@pytest.mark.parametrize("method", EXACT + OUTER, ids=_label)
+def test_a_box_is_already_reduced(method):
+    B = ss.Box([-1.0, 0.0], [1.0, 2.0])
+    assert ss.reduce(B, method) is B
+
+
+@settings(max_examples=10, deadline=None)
+@given(data=st.data())
+def test_unsupported_types_raise_naming_method_and_type(data):
+    n = data.draw(dims(3))
+    S = data.draw(st.one_of(hpolytopes(n), ellipsoids(n), sets(n, depth=1).filter(
+        lambda d: not isinstance(d.set, (ss.Zonotope, ss.ConstrainedZonotope, ss.Box, ss.EmptySet))))).set
+    for method in EXACT + [ss.Girard(1), ss.IntervalHull()]:
+        with pytest.raises(NotImplementedError, match=type(S).__name__) as err:
+            ss.reduce(S, method)
+        assert type(method).__name__ in str(err.value)
+
+
+def test_bad_arguments_are_refused_at_the_door():
+    Z = ss.Zonotope(np.eye(2), np.zeros(2))
+    with pytest.raises(ValueError, match="order"):
+        ss.Girard(0.5)
+    with pytest.raises(ValueError, match="order"):
+        ss.Combastel(float("nan"))
+    with pytest.raises(ValueError, match="'iter' or 'exact'"):
+        ss.Rescale("fast")
+    with pytest.raises(ValueError, match="max_constraints"):
+        ss.EliminateConstraints(-1)
+    with pytest.raises(ValueError, match="max_constraints"):
+        ss.EliminateConstraints(1.5)
+    with pytest.raises(TypeError, match="method_or_methods"):
+        ss.reduce(Z, "girard")
+    with pytest.raises(TypeError, match="method_or_methods"):
+        ss.reduce(Z, [])
+    with pytest.raises(TypeError, match="method_or_methods"):
+        ss.reduce(Z, [ss.Girard(1), "girard"])
+    with pytest.raises(TypeError, match="ConvexSet"):
+        ss.reduce(np.eye(2), ss.Girard(1))
+
+
+def test_methods_are_immutable_values():
+    m = ss.Girard(2)
+    assert m == ss.Girard(2) and hash(m) == hash(ss.Girard(2)) and m != ss.Combastel(2)
+    with pytest.raises(AttributeError):
+        m.order = 3
