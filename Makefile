@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: test figures examples bench clean
+.PHONY: test figures examples bench reliability clean
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -23,6 +23,10 @@ figures: examples
 
 bench: $(STAMP)
 	$(PY) benchmarks/bench_support.py
+
+# The large reliability run of issue 7 (>= 250 random systems x 4 regimes x 3 estimators; long).
+reliability: $(STAMP)
+	$(PY) benchmarks/reliability.py --workers 2
 
 clean:
 	rm -rf $(VENV) paper_figures/out examples/out .pytest_cache .hypothesis

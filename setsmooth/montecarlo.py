@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import functools
 import os
+import pickle
 from collections.abc import Callable
 from concurrent.futures import Executor, ProcessPoolExecutor
 from typing import Any, TypeVar
@@ -57,8 +58,10 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int,
     Raises
     ------
     TypeError
-        When ``trial`` is not callable, ``n_runs``/``seed``/``workers`` are not integers, or
-        ``executor`` is neither None, 'serial' nor an Executor.
+        When ``trial`` is not callable, ``n_runs``/``seed``/``workers`` are not integers,
+        ``executor`` is neither None, 'serial' nor an Executor, or a process pool would run a
+        ``trial`` that cannot be pickled (a lambda, a local function, a partial of one): checked
+        before the pool starts.
     ValueError
         When ``n_runs < 1``, ``seed < 0`` or ``workers < 1``.
     """
@@ -79,6 +82,10 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int,
 
     if serial or (executor is None and n_runs == 1):
         return [result for result in bar(map(call, seeds))]
+    if executor is None or isinstance(executor, ProcessPoolExecutor):
+        # A pool that fails to pickle a task can hang in shutdown (2 runs in 10 with a lambda), so an
+        # unpicklable trial is refused here, before any process starts.
+        _check_picklable(trial)
     if isinstance(executor, Executor):
         return _mapped(executor, call, seeds, bar, _chunksize(n_runs, workers or os.cpu_count() or 1))
     n_workers = workers or min(2, os.cpu_count() or 1)
@@ -93,6 +100,31 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int,
 def _mapped(executor: Executor, call: Callable, seeds: list, bar: Callable, chunksize: int) -> list:
     # Executor.map yields in submission order, which is run order, whatever the completion order.
     return [result for result in bar(executor.map(call, seeds, chunksize=chunksize))]
+
+
+def _check_picklable(trial: Callable) -> None:
+    """Raise a TypeError naming what in ``trial`` cannot be sent to a worker process."""
+    try:
+        pickle.dumps(trial)
+    except Exception as exc:  # pickling raises PicklingError, TypeError, AttributeError, ...
+        what = "trial"
+        if isinstance(trial, functools.partial):
+            parts = [("trial's function", trial.func)]
+            parts += [(f"trial's positional argument {i}", a) for i, a in enumerate(trial.args)]
+            parts += [(f"trial's keyword argument {k!r}", v) for k, v in trial.keywords.items()]
+            what = next((name for name, part in parts if not _picklable(part)), what)
+        raise TypeError(
+            f"{what} cannot be pickled, so it cannot run in a process pool ({exc}). Use a "
+            "module-level function (or a functools.partial of one with picklable arguments), or "
+            "run with executor='serial' or a ThreadPoolExecutor") from exc
+
+
+def _picklable(obj: Any) -> bool:
+    try:
+        pickle.dumps(obj)
+    except Exception:
+        return False
+    return True
 
 
 def _call_trial(trial: Callable[[np.random.Generator], Any], seed_seq: np.random.SeedSequence) -> Any:

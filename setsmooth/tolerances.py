@@ -20,6 +20,12 @@ SOLVER_TOL = 1e-9
 #: primal feasibility) before it is returned; an answer failing the check raises ``SolverError``.
 SOLVER_CHECK_TOL = 1e-6
 
+#: Relative violation above which a set counts as empty: the optimum t* of the elastic program (every
+#: constraint relaxed by t, see ``solvers.conic``) on equilibrated data, relative to max(1, ‖b‖∞).
+#: Ten times the solver's accuracy, so that the solver's noise never empties a set; a set emptied by
+#: less is within the tolerance of a non-empty one and is solved as such.
+EMPTINESS_TOL = 1e-8
+
 #: Relative margin used to decide membership ``contains`` when the caller gives no ``tol``.
 MEMBERSHIP_TOL = 1e-7
 

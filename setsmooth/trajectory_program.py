@@ -203,17 +203,26 @@ class _FilterProgram:
         constraints = traj._stacked_constraints(self.x, traj.steps, self.relaxed)
         self.problem = cp.Problem(cp.Maximize(self.d @ self.x), constraints)
 
-    def _solve(self, j: int, d: np.ndarray, context: str) -> str:
-        from .solvers.generic import _solve_cvxpy
-
+    def _set(self, j: int, d: np.ndarray) -> None:
         self.relaxed.value = (np.arange(self.steps + 1) > j).astype(float)
         full = np.zeros(self.x.size)
         full[j * self.n:(j + 1) * self.n] = d
         self.d.value = full
-        return _solve_cvxpy(self.problem, context)
+
+    def _solve(self, j: int, d: np.ndarray, context: str) -> str:
+        from .solvers.conic import solve_problem
+
+        self._set(j, d)
+        return solve_problem(self.problem, context, "support")
 
     def feasible(self, j: int) -> bool:
-        return self._solve(j, np.zeros(self.n), "deciding emptiness of a filtered range") != "infeasible"
+        """Whether the posterior at index j is non-empty (the elastic emptiness program of
+        `solvers.conic`)."""
+        from .solvers.conic import conic_form
+
+        self._set(j, np.zeros(self.n))
+        form = conic_form(self.problem, "deciding emptiness of a filtered range", "emptiness")[0]
+        return not form.is_empty()
 
     def support(self, j: int, D: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         k = D.shape[0]
@@ -230,7 +239,7 @@ class _FilterProgram:
                 return empty
             if status == "unbounded":
                 raise SolverError("unbounded", "computing a support function of a filtered range "
-                                  "whose states are bounded (bounded prior and W)")
+                                  "whose states are bounded (bounded prior and W)", kind="support")
             values[i] = float(self.problem.value)
             points[i] = self.x.value[j * self.n:(j + 1) * self.n]
         return values, points

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import functools
 import time
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 
 import numpy as np
 import pytest
@@ -111,3 +111,46 @@ def test_validation(kwargs, exc, match):
     args = dict(trial=draw, n_runs=3, seed=0, executor="serial", progress=False) | kwargs
     with pytest.raises(exc, match=match):
         run(**args)
+
+
+def _run_with_deadline(target, seconds):
+    """Run ``target()`` in a daemon thread; a hang fails the test instead of blocking the suite."""
+    import threading
+
+    outcome = {}
+
+    def body():
+        try:
+            outcome["value"] = target()
+        except BaseException as exc:  # handed to the test thread
+            outcome["error"] = exc
+
+    worker = threading.Thread(target=body, daemon=True)
+    worker.start()
+    worker.join(seconds)
+    assert not worker.is_alive(), f"montecarlo.run did not return within {seconds} s"
+    return outcome
+
+
+def test_an_unpicklable_trial_is_refused_before_a_process_pool_starts_never_a_hang():
+    for attempt in range(10):  # the pool used to hang in shutdown in 2 runs of 10
+        outcome = _run_with_deadline(
+            lambda: run(lambda rng: rng.standard_normal(), 8, seed=attempt, progress=False,
+                        workers=2), 30)
+        error = outcome.get("error")
+        assert isinstance(error, TypeError), outcome
+        assert "trial" in str(error) and "module-level function" in str(error)
+
+
+def test_an_unpicklable_partial_argument_is_named():
+    trial = functools.partial(smoothing_trial, T=lambda: 20)
+    with ProcessPoolExecutor(max_workers=1) as pool:
+        with pytest.raises(TypeError, match="trial's keyword argument 'T'"):
+            run(trial, 4, seed=0, executor=pool, progress=False)
+
+
+def test_an_unpicklable_trial_still_runs_serially_and_in_threads():
+    trial = lambda rng: rng.standard_normal()  # noqa: E731
+    serial = run(trial, 4, seed=3, executor="serial", progress=False)
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        assert run(trial, 4, seed=3, executor=pool, progress=False) == serial

@@ -18,6 +18,7 @@ import numpy as np
 from .. import tolerances as tol
 from .._validation import as_directions, as_matrix, as_vector, real_number
 from ..solvers import GenericProgram
+from ..solvers.instances import cached_instance
 from .hooks import AlgebraHooks
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -102,9 +103,11 @@ class ConvexSet(AlgebraHooks, ABC):
                              " it does not flatten to a constrained zonotope")
         return self._generic.support(D)
 
-    @cached_property
+    @property
     def _generic(self) -> GenericProgram:
-        return GenericProgram(self)
+        """This thread's compiled CVXPY program of the set (`solvers.instances`): never stored on
+        the set, so that sets stay picklable and threads never share a solver."""
+        return cached_instance(self, "generic", lambda: GenericProgram(self))
 
     @cached_property
     def _flat_cz(self) -> "ConstrainedZonotope | None":
@@ -216,9 +219,14 @@ class ConvexSet(AlgebraHooks, ABC):
             (the point minimizing the worst-case ∞-norm error over the set).
             'chebyshev': centre of the largest inscribed Euclidean ball (sets with an H-representation
             and ellipsoids).
-            'closest': the member closest to ``reference`` in the given ``norm``.
+            'closest': the member closest to ``reference`` in the given ``norm`` (LSU paper,
+            Method 2): one Clarabel program on the factor set when the set flattens to a
+            constrained zonotope and ``norm`` is 1, 2 or inf (`solvers.closest`), the generic CVXPY
+            path otherwise.
         reference : array_like, shape (dim,), optional
             Needed by 'closest'.
+        norm : {2, 1, inf, 'inf'} or any p-norm CVXPY accepts
+            Norm of 'closest'.
 
         Returns
         -------
@@ -236,9 +244,19 @@ class ConvexSet(AlgebraHooks, ABC):
             if reference is None:
                 raise ValueError("center(method='closest') needs a reference point")
             ref = as_vector(reference, "reference", self.dim)
-            point = self._generic.closest_point(ref, norm)
+            point = self._closest_point(ref, norm)
             return np.full(self.dim, np.nan) if point is None else point
         raise ValueError(f"method must be 'interval_hull', 'chebyshev' or 'closest', got {method!r}")
+
+    def _closest_point(self, reference: np.ndarray, norm) -> np.ndarray | None:
+        """A member closest to ``reference`` (None when empty): the fast path when the set
+        flattens to a CZ and ``norm`` is 1, 2 or ∞, the generic path otherwise."""
+        from ..solvers.closest import closest_point, fast_norm
+
+        cz, p = self._flat_cz, fast_norm(norm)
+        if cz is None or p is None:
+            return self._generic.closest_point(reference, norm)
+        return closest_point(cz.G, cz.c, cz.A, cz.b, cz.h, reference, p)
 
     def _chebyshev_center(self) -> np.ndarray:
         raise NotImplementedError(
@@ -352,6 +370,22 @@ class ConvexSet(AlgebraHooks, ABC):
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(dim={self.dim})"
+
+    # -- pickling (process pools, Dask) ----------------------------------------------------------------
+    #: Caches derived from the representation (cached properties): rebuilt on demand after
+    #: unpickling rather than shipped. Solver instances are never on a set at all (they live in the
+    #: per-thread cache of `solvers.instances`), so no query can make a set unpicklable.
+    _DERIVED = ("_flat_cz", "_program")
+
+    def __getstate__(self) -> dict:
+        return {name: value for name, value in self.__dict__.items() if name not in self._DERIVED}
+
+    def __setstate__(self, state: dict) -> None:
+        # Pickle restores arrays writeable; a set's arrays stay read-only (sets are immutable).
+        for value in state.values():
+            if isinstance(value, np.ndarray):
+                value.flags.writeable = False
+        self.__dict__.update(state)
 
 
 def _same_dim(a: ConvexSet, b: ConvexSet, what: str) -> None:

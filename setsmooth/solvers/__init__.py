@@ -4,14 +4,22 @@
 * `factor_set`: the **fast path** for constrained zonotopes: the factor set {ξ : Aξ = b, |ξ| ≤ h} set up
   in Clarabel once, one sparse LP per direction (`FactorConstraints`, `CZProgram`).
 * `generic`: the **generic path** for any set: its CVXPY constraints with the direction as a
-  ``cp.Parameter``, compiled once per set (`GenericProgram`), and the Chebyshev ball of an H-polytope.
+  ``cp.Parameter``, compiled once per program (`GenericProgram`), and the Chebyshev ball of an
+  H-polytope.
+* `conic`: a compiled conic program solved by Clarabel directly (`ConicForm`): equilibration,
+  verification of answers, Clarabel's status names, emptiness by an elastic phase-one program.
+* `closest`: the point of a constrained zonotope closest to a reference in the 1-, 2- or ∞-norm
+  (`closest_point`), one program on the factor set.
+* `instances`: solver instances kept per thread (`cached_instance`), never on a set.
 
 The two paths give the same answers; the tests run both on the same sets and compare.
 """
 
 from .clarabel_lp import LPSolution, SolverError, solve_lp
 from .factor_set import STACK_MAX_VARIABLES, CZProgram, FactorConstraints
+from .closest import closest_point
+from .conic import ConicForm
 from .generic import GenericProgram, chebyshev_ball
 
 __all__ = ["SolverError", "LPSolution", "solve_lp", "FactorConstraints", "CZProgram",
-           "STACK_MAX_VARIABLES", "GenericProgram", "chebyshev_ball"]
+           "STACK_MAX_VARIABLES", "GenericProgram", "chebyshev_ball", "ConicForm", "closest_point"]

@@ -22,17 +22,48 @@ __all__ = ["SolverError", "LPSolution", "solve_lp"]
 class SolverError(RuntimeError):
     """A convex program ended in a status that yields no trustworthy answer.
 
+    One status vocabulary on every path: ``status`` is Clarabel's ``SolverStatus`` name
+    ('AlmostSolved', 'MaxIterations', 'InsufficientProgress', 'NumericalError', ...) or one of
+    setsmooth's own verdicts ('UncertifiableReducedCost': no sound finite certificate exists;
+    'UnverifiedSolution': a reduced-accuracy answer failed our independent check).
+
+    Parameters
+    ----------
+    status : str
+        The status name.
+    context : str, optional
+        What was being computed, for the message.
+    kind : str, optional
+        The program kind: 'support', 'emptiness', 'membership', 'recession', 'closest point', ...
+
     Attributes
     ----------
     status : str
-        The solver's status (Clarabel's ``SolverStatus`` name or CVXPY's status string).
+    kind : str or None
+    context : str
+
+    Examples
+    --------
+    >>> err = SolverError("MaxIterations", "computing a support function", kind="support")
+    >>> err.status, err.kind
+    ('MaxIterations', 'support')
     """
 
-    def __init__(self, status: str, context: str = ""):
+    def __init__(self, status: str, context: str = "", *, kind: str | None = None):
         self.status = str(status)
+        self.context = str(context)
+        self.kind = None if kind is None else str(kind)
         where = f" while {context}" if context else ""
-        super().__init__(f"solver returned status {self.status!r}{where}")
+        what = f" ({self.kind} program)" if self.kind else ""
+        super().__init__(f"solver returned status {self.status!r}{what}{where}")
 
+    def __reduce__(self):
+        # Exceptions pickle through their args; keep status, context and kind across processes.
+        return (_rebuild_solver_error, (self.status, self.context, self.kind))
+
+
+def _rebuild_solver_error(status: str, context: str, kind: str | None) -> SolverError:
+    return SolverError(status, context, kind=kind)
 
 
 _SOLVED = "Solved"

@@ -30,6 +30,7 @@ from .. import tolerances as tol
 from . import clarabel_lp
 from .clarabel_lp import (_ALMOST_SOLVED, LPSolution, SolverError, _csc, _index_type, _lp_solution,
                           _zero_cost, solve_lp)
+from .instances import cached_instance
 
 __all__ = ["FactorConstraints", "CZProgram", "STACK_MAX_VARIABLES"]
 
@@ -48,8 +49,9 @@ class FactorConstraints:
 
     Notes
     -----
-    One copy of the factor set is set up in Clarabel on the first query and kept: every later
-    objective (direction, map, projection, emptiness) reuses it. The blocks ``kron(I_k, A)`` and the
+    One copy of the factor set is set up in Clarabel on a thread's first query and kept in that
+    thread's instance cache (`solvers.instances`): every later objective (direction, map,
+    projection, emptiness) reuses it. The blocks ``kron(I_k, A)`` and the
     finite-bound rows of ``k`` stacked copies are cached per ``k``.
     """
 
@@ -63,11 +65,6 @@ class FactorConstraints:
         self.free = np.flatnonzero(~np.isfinite(h))
         self._stacks: dict[int, tuple[sp.csc_matrix, np.ndarray]] = {}
         self._empty: bool | None = None
-        self._solver: clarabel.DefaultSolver | None = None
-
-    def __getstate__(self):
-        # A Clarabel instance cannot be pickled (process pools); it is set up again on demand.
-        return {**self.__dict__, "_solver": None}
 
     def block(self, k: int) -> tuple[sp.csc_matrix, np.ndarray]:
         """Rows [kron(I,A); kron(I,E); kron(I,-E)] and right-hand sides for k stacked copies."""
@@ -123,17 +120,24 @@ class FactorConstraints:
             M, rhs = self.block(k)
             return solve_lp(Q.reshape(-1), M, rhs, k * self.nc, 2 * k * nf, context)
         q = Q.reshape(-1)
-        if self._solver is None:
+        built = []
+
+        def build() -> clarabel.DefaultSolver:
+            # Kept per thread (solvers.instances): a Clarabel instance re-solved by two threads at
+            # once fails ('Already borrowed'), and it cannot be pickled.
             M, rhs = self.block(1)
             cones = [clarabel.ZeroConeT(self.nc)] if self.nc else []
             if nf:
                 cones.append(clarabel.NonnegativeConeT(2 * nf))
-            self._solver = clarabel.DefaultSolver(_zero_cost(self.ng), q, M, rhs, cones,
-                                                   clarabel_lp.settings())
-            return _lp_solution(self._solver.solve(), self.nc, context)
-        self._solver.update(q=q)
+            built.append(True)
+            return clarabel.DefaultSolver(_zero_cost(self.ng), q, M, rhs, cones, clarabel_lp.settings())
+
+        solver = cached_instance(self, "factor set", build)
+        if built:
+            return _lp_solution(solver.solve(), self.nc, context)
+        solver.update(q=q)
         start = time.perf_counter()
-        sol = self._solver.solve()
+        sol = solver.solve()
         # Clarabel's solve_time of a re-solve counts the set-up again (and a timer that grows with
         # every solve), so a re-solve is timed by its own call.
         return _lp_solution(sol, self.nc, context, time.perf_counter() - start)

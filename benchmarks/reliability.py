@@ -1,0 +1,262 @@
+"""Reliability benchmark (issue 7): the exact estimators against an independent HiGHS oracle, at scale.
+
+    python benchmarks/reliability.py [--systems N] [--seed S] [--workers W] [--rescaled R]
+                                     [--witness K] [--long-horizon L] [--horizon T]
+
+* N seeded random systems (`tests/reliability/random_systems.py`: five kinds, n = 2..6, p, m = 1..3,
+  box and CZ noises, T = 10..40), each in the four regimes (noise scale 1, 1e-6, 1e3; state offset
+  1e6), × the three estimators (filter, recursion smoother, trajectory smoother), hulls plain and
+  certified, scored against the trajectory-LP oracle (`tests/reliability/compare.py` says exactly what
+  counts);
+* R rescaled random CZs (1e±12 scalings of rows, factors, coordinates) on the fast and generic paths;
+* the witness check (certified supports of the trajectory smoother vs feasible points) on the first K
+  systems at unit scale;
+* L seeds of issue 8's long-horizon case (example (31), triangle-CZ process noise, T steps);
+* threads, pickling and the Monte Carlo guard, once.
+
+Everything is seeded; the counts are reproducible for a given seed and size. The work is spread over
+a process pool with a tqdm bar. Prints Markdown tables.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from collections import Counter, defaultdict
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from tests.reliability import compare, concurrency, rescaling, witness  # noqa: E402
+from tests.reliability.oracle import OracleError  # noqa: E402
+from tests.reliability.random_systems import REGIMES, base_case, in_regime, triangle_case  # noqa: E402
+
+
+# -- tasks (module level: they go to worker processes) ------------------------------------------------
+def system_task(seed: int, index: int, with_witness: bool, T_range: tuple[int, int],
+                n_range: tuple[int, int]):
+    """All regimes of system ``index``: (list of CaseResult or ('oracle', name, msg)), witness outcome."""
+    base = base_case(seed, index, T_range=T_range, n_range=n_range)
+    results = []
+    for regime in REGIMES:
+        case = in_regime(base, regime)
+        try:
+            results.append(compare.compare_case(case))
+        except OracleError as exc:
+            results.append(("oracle", case.name, str(exc)))
+    w = None
+    if with_witness:
+        try:
+            w = witness.witness_check(base)
+        except OracleError as exc:
+            w = ("oracle", base.name, str(exc))
+    return results, w
+
+
+def rescale_task(seed: int, count: int, i: int):
+    r = rescaling.random_rescalings(count, seed)[i]
+    return [rescaling.check(r, path) for path in rescaling.PATHS]
+
+
+def long_horizon_task(seed: int, T: int):
+    # The recursion smoother's sets grow as O(T²) factors (each smoothed CZ restates the later ones);
+    # at T = 100 that exhausts memory, so this case runs the filter and the trajectory smoother.
+    case = triangle_case(seed, T)
+    try:
+        return compare.compare_case(case, estimators=("filter", "trajectory"))
+    except OracleError as exc:
+        return ("oracle", case.name, str(exc))
+
+
+# -- tables --------------------------------------------------------------------------------------------
+def _errors_cell(runs: list[compare.Outcome]) -> str:
+    failed = [o for o in runs if o.error]
+    if not failed:
+        return "0"
+    parts = []
+    for est in compare.ESTIMATORS:
+        mine = [o for o in failed if o.estimator == est]
+        if mine:
+            kinds = Counter(f"{o.status or o.error} at {o.stage}" for o in mine)
+            parts.append(f"{est} {len(mine)}: " + ", ".join(f"{k} ×{v}" for k, v in kinds.most_common()))
+    return f"{len(failed)} (" + "; ".join(parts) + ")"
+
+
+def _count_cell(runs: list[compare.Outcome], attr: str, worst: str) -> str:
+    bad = [o for o in runs if getattr(o, attr)]
+    if not bad:
+        return "0"
+    by_est = Counter(o.estimator for o in bad)
+    w = max(getattr(o, worst) for o in bad)
+    return f"{len(bad)} (" + ", ".join(f"{e} {by_est[e]}" for e in compare.ESTIMATORS if by_est[e]) + \
+        f"; worst {w:.1e} rel)"
+
+
+def system_table(results: list[compare.CaseResult], title: str, group) -> str:
+    groups = defaultdict(list)
+    for r in results:
+        groups[group(r)].extend(r.outcomes)
+    lines = [f"### {title}", "",
+             "| group | runs | runs raising (by estimator and status) | true state outside | "
+             "hull off > 1e−6 rel | certified not enclosing |",
+             "|---|---|---|---|---|---|"]
+    order = sorted(groups, key=lambda g: (list(REGIMES).index(g) if g in REGIMES else 99, g))
+    total: list[compare.Outcome] = []
+    for g in order:
+        runs = groups[g]
+        total.extend(runs)
+        lines.append(f"| {g} | {len(runs)} | {_errors_cell(runs)} | "
+                     f"{_count_cell(runs, 'outside', 'worst_outside')} | {_count_cell(runs, 'off', 'worst_off')} | "
+                     f"{_count_cell(runs, 'not_enclosing', 'worst_not_enclosing')} |")
+    if len(order) > 1:
+        lines.append(f"| **all** | {len(total)} | {_errors_cell(total)} | "
+                     f"{_count_cell(total, 'outside', 'worst_outside')} | {_count_cell(total, 'off', 'worst_off')} | "
+                     f"{_count_cell(total, 'not_enclosing', 'worst_not_enclosing')} |")
+    return "\n".join(lines)
+
+
+def rescale_table(outcomes: list[rescaling.RescaleOutcome]) -> str:
+    lines = ["### Rescaled representations (1e±12), counts of sets", "",
+             "| path | rescaled | sets | silent wrong finite | inf for bounded | contains rejects member | "
+             "certified below exact | clear SolverError | other exception |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for path in rescaling.PATHS:
+        for how in (*rescaling.HOWS, "all"):
+            rows = [o for o in outcomes if o.path == path and (how == "all" or o.how == how)]
+            if not rows:
+                continue
+            wrong = [o for o in rows if o.wrong]
+            worst = f" (worst {max(o.worst_wrong for o in wrong):.1e} of scale)" if wrong else ""
+            below = [o for o in rows if o.certified_below]
+            worst_b = f" (worst {max(o.worst_certified_below for o in below):.1e})" if below else ""
+            statuses = Counter(s.split(": ", 1)[1] for o in rows for s in o.solver_errors)
+            se = sum(1 for o in rows if o.solver_errors)
+            se_cell = f"{se}" + (" (" + ", ".join(f"{k} ×{v}" for k, v in statuses.most_common()) + ")"
+                                 if se else "")
+            label = f"**{how}**" if how == "all" else how
+            lines.append(f"| {path} | {label} | {len(rows)} | {len(wrong)}{worst} | "
+                         f"{sum(1 for o in rows if o.inf)} | {sum(1 for o in rows if o.rejected)} | "
+                         f"{len(below)}{worst_b} | {se_cell} | {sum(1 for o in rows if o.other_errors)} |")
+    return "\n".join(lines)
+
+
+def witness_table(outcomes) -> str:
+    ok = [o for o in outcomes if isinstance(o, witness.WitnessOutcome)]
+    bad = [o for o in ok if o.violations]
+    errs = [o for o in ok if o.error]
+    worst = max((o.worst for o in bad), default=0.0)
+    example = max(bad, key=lambda o: o.worst).example if bad else ""
+    return "\n".join([
+        "### Witness check (trajectory smoother, certified support ≥ dᵀx for feasible x)", "",
+        "| systems | directions checked | systems with a certified value below a witness | worst gap (rel) | "
+        "raised | oracle failed |",
+        "|---|---|---|---|---|---|",
+        f"| {len(ok)} | {sum(o.checked for o in ok)} | {len(bad)} | {worst:.1e} {example} | {len(errs)} | "
+        f"{len(outcomes) - len(ok)} |"])
+
+
+def concurrency_table() -> str:
+    import pickle
+
+    lines = ["### Threads, pickling, process pools", "",
+             "| check | result |", "|---|---|"]
+    for name, build in concurrency.set_factories().items():
+        for path in ("auto", "generic"):
+            o = concurrency.threaded_support(name, build, path)
+            status = "ok" if not (o.wrong or o.errors or o.hung) else \
+                f"{o.wrong}/{o.queries} wrong (worst {o.worst:.1e}), {len(o.errors)} threads raised" + \
+                (f" ({o.errors[0]})" if o.errors else "") + (f", {o.hung} hung" if o.hung else "")
+            lines.append(f"| {name}, 4 threads, path={path} | {status} |")
+        S = build()
+        try:
+            S.support(np.ones(S.dim), path="generic")
+            S.support(np.ones(S.dim))
+            pickle.loads(pickle.dumps(S))
+            lines.append(f"| {name} pickles after generic + fast queries | ok |")
+        except Exception as exc:  # noqa: BLE001 - reported
+            lines.append(f"| {name} pickles after generic + fast queries | {type(exc).__name__}: {exc} |")
+    outcomes = concurrency.montecarlo_lambda_probe(attempts=5, timeout=15.0)
+    lines.append(f"| montecarlo.run with a lambda trial (5 attempts, 15 s each) | {', '.join(outcomes)} |")
+    return "\n".join(lines)
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--systems", type=int, default=250)
+    ap.add_argument("--seed", type=int, default=2026)
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--rescaled", type=int, default=60)
+    ap.add_argument("--witness", type=int, default=60, help="systems for the witness check (the first K)")
+    ap.add_argument("--long-horizon", type=int, default=10, help="seeds of issue 8's triangle-CZ case")
+    ap.add_argument("--horizon", type=int, default=100)
+    ap.add_argument("--T-range", type=int, nargs=2, default=(10, 40), metavar=("MIN", "MAX"),
+                    help="horizon range of the random systems (issue 7: 10 40)")
+    ap.add_argument("--n-range", type=int, nargs=2, default=(2, 6), metavar=("MIN", "MAX"),
+                    help="state-dimension range of the random systems (issue 7: 2 6)")
+    ap.add_argument("--no-concurrency", action="store_true")
+    args = ap.parse_args(argv)
+
+    t0 = time.perf_counter()
+    case_results, oracle_failed, witnesses, rescaled, long_runs = [], [], [], [], []
+    with ProcessPoolExecutor(max_workers=args.workers) as pool:
+        futures = {}
+        for i in range(args.systems):
+            futures[pool.submit(system_task, args.seed, i, i < args.witness, tuple(args.T_range),
+                                tuple(args.n_range))] = "system"
+        for i in range(args.rescaled):
+            futures[pool.submit(rescale_task, args.seed, args.rescaled, i)] = "rescale"
+        for s in range(args.long_horizon):
+            futures[pool.submit(long_horizon_task, s, args.horizon)] = "long"
+        for fut in tqdm(as_completed(futures), total=len(futures), desc="reliability", unit="task"):
+            kind = futures[fut]
+            out = fut.result()
+            if kind == "system":
+                results, w = out
+                for r in results:
+                    (oracle_failed if isinstance(r, tuple) else case_results).append(r)
+                if w is not None:
+                    witnesses.append(w)
+            elif kind == "rescale":
+                rescaled.extend(out)
+            else:
+                (oracle_failed if isinstance(out, tuple) else long_runs).append(out)
+    elapsed = time.perf_counter() - t0
+
+    print(f"\n## setsmooth reliability: seed {args.seed}, {args.systems} systems (T = {args.T_range[0]}.."
+          f"{args.T_range[1]}, n = {args.n_range[0]}..{args.n_range[1]}) × {len(REGIMES)} regimes × "
+          f"{len(compare.ESTIMATORS)} estimators ({elapsed:.0f} s on {args.workers} workers)\n")
+    print(system_table(case_results, "By regime (runs = systems × filter/recursion/trajectory)",
+                       lambda r: r.regime))
+    print()
+    print(system_table(case_results, "By kind and noise (all regimes)", lambda r: f"{r.kind}, {r.noise}"))
+    print()
+    if long_runs:
+        print(system_table(long_runs, f"Issue 8: example (31), triangle-CZ W, T = {args.horizon}",
+                           lambda r: "triangle W"))
+        print()
+    print(rescale_table(rescaled))
+    print()
+    print(witness_table(witnesses))
+    print()
+    if oracle_failed:
+        print(f"Oracle failures (cases left out of the counts): {len(oracle_failed)}")
+        for _, name, msg in oracle_failed[:10]:
+            print(f"  {name}: {msg}")
+        print()
+    oracle_t = np.median([r.oracle_seconds for r in case_results]) if case_results else float("nan")
+    est_t = {e: np.median([o.seconds for r in case_results for o in r.outcomes if o.estimator == e])
+             for e in compare.ESTIMATORS} if case_results else {}
+    print("Median seconds per case: oracle {:.2f}; ".format(oracle_t) +
+          ", ".join(f"{e} {t:.2f}" for e, t in est_t.items()))
+    if not args.no_concurrency:
+        print()
+        print(concurrency_table())
+
+
+if __name__ == "__main__":
+    main()

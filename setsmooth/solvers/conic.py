@@ -1,0 +1,432 @@
+"""A CVXPY problem handed to Clarabel by us: equilibrated, verified, settled when nearly empty.
+
+CVXPY compiles a problem to Clarabel's conic form
+
+    minimize qᵀz   subject to   Az + s = b,   s ∈ K = {0}^{n₀} × ℝ₊^{n₁} × SOC × …
+
+and `ConicForm` solves it directly rather than through ``Problem.solve``, for four reasons:
+
+* **Scale.** Rows and columns are equilibrated (Ruiz: each row block and column divided by the square
+  root of its largest entry, repeated) without bounds on the factors. Clarabel's own equilibration
+  stops at 1e±4, so a constraint row written 1e12 times smaller than another is satisfied "to 1e-9"
+  by any point and silently dropped: the same set represented two ways gave different answers.
+* **Verification.** An answer is returned only if, in the equilibrated data, the primal point
+  satisfies every row to ``SOLVER_CHECK_TOL`` relative to that row's own terms Σⱼ|A_ij z_j| + |b_i|,
+  the multipliers satisfy every dual row likewise, and the duality gap closes likewise (each with a
+  floor at the solver's accuracy on the unit-size data, for terms that vanish at the solution).
+  Clarabel's own tolerances are global norms, under which a row of 1e-8-sized terms may be violated
+  by 100 %. An answer failing the check is solved once more with the variables rescaled to the
+  sizes of its entries; failing again, `SolverError('UnverifiedSolution')`.
+* **Status.** A failure carries Clarabel's own status name and the program kind (CVXPY maps
+  NumericalError, InsufficientProgress and others to one 'solver_error').
+* **Nearly empty sets.** Emptiness is decided by the elastic program
+
+      t* = min { t : Az + s = b + t·e, s ∈ K (zero rows as −t ≤ b − Az ≤ t), t ≥ 0 },
+
+  e the cone's unit (1 on linear rows, (1, 0, …, 0) on a second-order cone), on the equilibrated
+  data. It is feasible and bounded whatever the data, so an interior-point method solves it where it
+  fails to certify the infeasibility of a set emptied by a gap of 1e-8. The set counts as empty iff
+  t* > ``EMPTINESS_TOL``·max(1, ‖b‖∞). A program that fails on a set found non-empty is solved again
+  on the set relaxed by t̄ = max(2t*, EMPTINESS_TOL·max(1, ‖b‖∞)): it has an interior, and is within
+  the emptiness tolerance of the set.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import clarabel
+import cvxpy as cp
+import numpy as np
+import scipy.sparse as sp
+
+from .. import tolerances as tol
+from . import clarabel_lp
+from .clarabel_lp import SolverError
+
+__all__ = ["ConicForm", "ConicSolution", "solve_problem"]
+
+#: Ruiz equilibration passes: enough to bring rows and columns spread over 1e±12 to within a factor
+#: of ~2 of each other.
+_RUIZ_PASSES = 25
+
+_SOLVED = ("Solved", "AlmostSolved")
+
+#: Range of variable sizes kept apart when rescaling to a solution (`ConicForm._rescale_to`): the
+#: span of double precision beyond the solver's accuracy.
+_MAGNITUDE_RANGE = 1e-14
+
+
+@dataclass(frozen=True)
+class ConicSolution:
+    """A verified answer: ``status`` in {'optimal', 'infeasible', 'unbounded'}, the primal ``z``
+    (original scaling; NaN unless optimal) and its objective ``value``."""
+
+    status: str
+    z: np.ndarray
+    value: float
+
+
+def _status_name(status) -> str:
+    return str(status).split(".")[-1]
+
+
+class _Unverified(Exception):
+    def __init__(self, z: np.ndarray, what: str):
+        super().__init__(what)
+        self.z, self.what = z, what
+
+
+class ConicForm:
+    """One compiled conic program (A, b, K), equilibrated once, solved for any objective q.
+
+    Parameters
+    ----------
+    A : sparse matrix, shape (m, nz)
+    b : ndarray, shape (m,)
+    dims : cvxpy ConeDims
+        The cone sizes in CVXPY's order (zero, nonneg, soc, then others).
+    context, kind : str
+        What is being computed and the program kind, for `SolverError`.
+    P : sparse matrix, optional
+        A quadratic term ½zᵀPz of the objective (symmetric, positive semidefinite).
+    """
+
+    def __init__(self, A, b: np.ndarray, dims, context: str, kind: str, P=None):
+        from cvxpy.reductions.solvers.conic_solvers.clarabel_conif import dims_to_solver_cones
+
+        self.A = sp.csc_matrix(A)
+        self.b = np.asarray(b, dtype=float)
+        #: The quadratic part ½zᵀPz of the objective (None: a linear objective).
+        self.P = None if P is None else sp.csc_matrix(P)
+        self.m, self.nz = self.A.shape
+        self.n_zero, self.n_nonneg = int(dims.zero), int(dims.nonneg)
+        self.soc = [int(k) for k in dims.soc]
+        self.cones = dims_to_solver_cones(dims)
+        n_soc = sum(self.soc)
+        #: Only zero, linear and second-order cones can be relaxed and verified here.
+        self.plain = self.n_zero + self.n_nonneg + n_soc == self.m
+        self.context, self.kind = context, kind
+        self._use_scaling(*self._equilibrate())
+        self._elastic: float | None = None
+
+    def _use_scaling(self, r: np.ndarray, c: np.ndarray, beta: float) -> None:
+        self.row_scale = r
+        self.As = sp.csc_matrix(sp.diags(r) @ self.A @ sp.diags(c))
+        self.bs = beta * r * self.b
+        #: z = col_scale · z' for the solution z' of the scaled program (q' = col_scale · q up to
+        #: the positive factor β, which does not move the minimizer).
+        self.col_scale = c / beta
+
+    # -- scaling -------------------------------------------------------------------------------------
+    def _groups(self) -> np.ndarray:
+        """Start row of every block whose rows share one scaling factor (a cone keeps its shape
+        only under a common factor; linear rows each form their own block)."""
+        linear = self.n_zero + self.n_nonneg
+        starts = list(range(linear))
+        row = linear
+        for k in self.soc:
+            starts.append(row)
+            row += k
+        if row < self.m:
+            starts.append(row)  # other cones: one common factor
+        return np.array(starts, dtype=int)
+
+    def _bound_sizes(self) -> np.ndarray:
+        """A starting column scaling from the variables' bounds: a linear row a·z_j ≤ b_i (or = b_i)
+        says z_j has size ~|b_i/a|. Ruiz balances the matrix, not the variables: without this a
+        variable bounded by 1e-8 next to one of size 1e12 stays at 1e-8 after scaling, below the
+        solver's absolute accuracy."""
+        c = np.ones(self.nz)
+        lin = self.A[: self.n_zero + self.n_nonneg].tocsr()
+        counts = np.diff(lin.indptr)
+        rows = np.flatnonzero((counts == 1) & (self.b[: lin.shape[0]] != 0))
+        if rows.size:
+            cols = lin.indices[lin.indptr[rows]]
+            size = np.abs(self.b[rows] / lin.data[lin.indptr[rows]])
+            bound = np.zeros(self.nz)
+            np.maximum.at(bound, cols, size)
+            c = np.where(bound > 0, bound, 1.0)
+        return c
+
+    def _equilibrate(self) -> tuple[np.ndarray, np.ndarray, float]:
+        """Ruiz scaling of the augmented matrix [A b]: row factors r (common within a cone), column
+        factors c and one factor β for b, so that the solution z' = β·z/c of the scaled program has
+        entries of comparable size: a bound h_j = 1e12 next to h_k = 1e-8 would otherwise leave the
+        small factors to the solver's absolute accuracy relative to the large ones."""
+        r, c, beta = np.ones(self.m), self._bound_sizes(), 1.0
+        if self.m == 0:
+            return r, c, beta
+        starts = self._groups()
+        sizes = np.diff(np.append(starts, self.m))
+        absA, absb = abs(self.A), np.abs(self.b)
+        for _ in range(_RUIZ_PASSES):
+            M = sp.diags(r) @ absA @ sp.diags(c)
+            rb = r * absb * beta
+            rows = np.maximum(np.asarray(M.max(axis=1).todense()).ravel(), rb)
+            block = np.repeat(np.maximum.reduceat(rows, starts), sizes)
+            cols = np.asarray(M.max(axis=0).todense()).ravel()
+            bmax = rb.max(initial=0.0)
+            sizes_now = np.concatenate([block, cols, [bmax]])
+            sizes_now = sizes_now[sizes_now > 0]
+            if sizes_now.size == 0 or np.abs(np.log2(sizes_now)).max() < 1:
+                break
+            r = r / np.sqrt(np.where(block > 0, block, 1.0))
+            c = c / np.sqrt(np.where(cols > 0, cols, 1.0))
+            if bmax > 0:
+                beta = beta / np.sqrt(bmax)
+        return r, c, beta
+
+    def _rescale_to(self, z: np.ndarray) -> None:
+        """Rescale so that the variables of the solution z (original scaling) are all of size ~1
+        (those far below the largest, at `_MAGNITUDE_RANGE` of it), then each row block to size 1.
+
+        A retry after an answer failed verification: Ruiz balances the data, not the solution, and
+        a factor bounded by 1e-8 next to one of size 1e4 stays below the solver's absolute accuracy.
+        """
+        size = np.abs(z / self.col_scale)  # in the current scaled variables
+        largest = size.max(initial=0.0)
+        if largest == 0:
+            return
+        # Relative sizes in [_MAGNITUDE_RANGE, 1]: the largest variables keep their scale, the small
+        # ones are scaled up to it.
+        c = self.col_scale * np.maximum(size / largest, _MAGNITUDE_RANGE)
+        M = abs(self.A) @ sp.diags(c)
+        rows = np.maximum(np.asarray(M.max(axis=1).todense()).ravel(), np.abs(self.b))
+        starts = self._groups()
+        block = np.repeat(np.maximum.reduceat(rows, starts), np.diff(np.append(starts, self.m)))
+        self._use_scaling(1.0 / np.where(block > 0, block, 1.0), c, 1.0)
+
+    # -- solving -------------------------------------------------------------------------------------
+    def _unit(self) -> np.ndarray:
+        """e: 1 on linear rows, (1, 0, …, 0) on each second-order cone."""
+        e = np.zeros(self.m)
+        e[self.n_zero:self.n_zero + self.n_nonneg] = 1.0
+        row = self.n_zero + self.n_nonneg
+        for k in self.soc:
+            e[row] = 1.0
+            row += k
+        return e
+
+    def _relaxed_data(self, relax: float, elastic: bool):
+        """(A, b, cones) of the relaxed program, in scaled variables (and t last when elastic)."""
+        Z = self.As[: self.n_zero]
+        rest = self.As[self.n_zero:]
+        e = self._unit()[self.n_zero:]
+        bz, brest = self.bs[: self.n_zero], self.bs[self.n_zero:]
+        blocks = [-Z, Z, rest]
+        rhs = [-bz + relax, bz + relax, brest + relax * e]
+        tcol = [np.full(self.n_zero, -1.0), np.full(self.n_zero, -1.0), -e]
+        A = sp.vstack(blocks, format="csc")
+        b = np.concatenate(rhs)
+        n_lin = 2 * self.n_zero + self.n_nonneg
+        cones = [clarabel.NonnegativeConeT(n_lin)] if n_lin else []
+        cones += [clarabel.SecondOrderConeT(k) for k in self.soc]
+        if elastic:
+            A = sp.hstack([A, sp.csc_matrix(np.concatenate(tcol)[:, None])], format="csc")
+            # t ≥ 0 as one more linear row, placed with the other linear rows.
+            t_row = sp.csc_matrix(([-1.0], ([0], [self.nz])), shape=(1, self.nz + 1))
+            A = sp.vstack([A[:n_lin], t_row, A[n_lin:]], format="csc")
+            b = np.concatenate([b[:n_lin], [0.0], b[n_lin:]])
+            cones = [clarabel.NonnegativeConeT(n_lin + 1)] + cones[1 if n_lin else 0:]
+        return A, b, cones
+
+    def _clarabel(self, q, A, b, cones, P=None):
+        s = clarabel_lp.settings(refine=True)
+        s.reduced_tol_gap_abs = s.reduced_tol_gap_rel = s.reduced_tol_feas = tol.SOLVER_CHECK_TOL
+        n = q.shape[0]
+        P = sp.csc_matrix((n, n)) if P is None else sp.triu(P, format="csc")
+        return clarabel.DefaultSolver(P, q, sp.csc_matrix(A), b, cones, s).solve()
+
+    def _scaled_quadratic(self, factor: float):
+        if self.P is None:
+            return None
+        C = sp.diags(self.col_scale)
+        return sp.csc_matrix(C @ self.P @ C) / factor
+
+    def bscale(self) -> float:
+        return max(1.0, float(np.abs(self.bs).max(initial=0.0)))
+
+    def elastic(self) -> float:
+        """t* of the elastic program (module docstring), in the equilibrated rows (cached)."""
+        if self._elastic is None:
+            if not self.plain:
+                raise SolverError("Unsupported", f"{self.context}: the elastic program handles "
+                                  "zero, linear and second-order cones only", kind=self.kind)
+            A, b, cones = self._relaxed_data(0.0, elastic=True)
+            q = np.zeros(self.nz + 1)
+            q[-1] = 1.0
+            sol = self._clarabel(q, A, b, cones)
+            name = _status_name(sol.status)
+            if name not in _SOLVED:
+                raise SolverError(name, f"{self.context} (elastic program)", kind=self.kind)
+            self._elastic = max(0.0, float(np.asarray(sol.x)[-1]))
+        return self._elastic
+
+    def is_empty(self) -> bool:
+        """Whether no z satisfies the constraints (elastic program, `EMPTINESS_TOL`)."""
+        if self.m == 0:
+            return False
+        return self.elastic() > tol.EMPTINESS_TOL * self.bscale()
+
+    def solve(self, q: np.ndarray) -> ConicSolution:
+        """Minimize qᵀz (q in the original scaling) with the status policy of the module docstring.
+
+        Raises
+        ------
+        SolverError
+            With Clarabel's status name, or 'UnverifiedSolution' when an answer fails the check.
+        """
+        q = np.asarray(q, dtype=float)
+        try:
+            sol = self._solve_verified(q, 0.0)
+        except SolverError:
+            if not self.plain:
+                raise
+            sol = None
+        if sol is not None and sol.status != "infeasible":
+            return sol
+        # Infeasible, or no trustworthy answer: settle emptiness by the elastic program, then solve
+        # the set relaxed within the emptiness tolerance, which has an interior.
+        if self.is_empty():
+            return ConicSolution("infeasible", np.full(self.nz, np.nan), np.nan)
+        relax = max(2.0 * self.elastic(), tol.EMPTINESS_TOL * self.bscale())
+        sol = self._solve_verified(q, relax)
+        if sol.status == "infeasible":
+            raise SolverError("PrimalInfeasible", f"{self.context}: a relaxation of a set found "
+                              "non-empty was reported infeasible", kind=self.kind)
+        return sol
+
+    def _solve_verified(self, q: np.ndarray, relax: float) -> ConicSolution:
+        """`_solve`; an answer failing verification is solved once more, rescaled to it."""
+        try:
+            return self._solve(q, relax)
+        except _Unverified as failed:
+            # The retry's scaling serves this objective only: kept, it would make later answers
+            # (and the recession tests, posed in the scaled variables) depend on the query history.
+            saved = self.row_scale, self.As, self.bs, self.col_scale
+            self._rescale_to(failed.z)
+        try:
+            return self._solve(q, relax)
+        except _Unverified as failed:
+            raise SolverError("UnverifiedSolution", f"{self.context}: the solution failed the "
+                              f"check of {failed.what}, also after rescaling to it",
+                              kind=self.kind) from None
+        finally:
+            self.row_scale, self.As, self.bs, self.col_scale = saved
+
+    def _solve(self, q: np.ndarray, relax: float) -> ConicSolution:
+        qs = self.col_scale * q
+        Ps = self._scaled_quadratic(1.0)
+        q_size = max(np.abs(qs).max(initial=0.0), 0.0 if Ps is None else abs(Ps).max())
+        if q_size > 0:  # a positive factor does not move the minimizer
+            qs = qs / q_size
+            Ps = None if Ps is None else Ps / q_size
+        if relax == 0.0:
+            A, b, cones, n_zero = self.As, self.bs, self.cones, self.n_zero
+        else:
+            (A, b, cones), n_zero = self._relaxed_data(relax, elastic=False), 0
+        if A.shape[0] == 0 and Ps is None:
+            if np.any(q):
+                return ConicSolution("unbounded", np.full(self.nz, np.nan), -np.inf)
+            return ConicSolution("optimal", np.zeros(self.nz), 0.0)
+        sol = self._clarabel(qs, A, b, cones, Ps)
+        name = _status_name(sol.status)
+        if name == "PrimalInfeasible":
+            return ConicSolution("infeasible", np.full(self.nz, np.nan), np.inf)
+        if name == "DualInfeasible":
+            return ConicSolution("unbounded", np.full(self.nz, np.nan), -np.inf)
+        if name not in _SOLVED:
+            raise SolverError(name, self.context, kind=self.kind)
+        zs = np.asarray(sol.x)
+        z = self.col_scale * zs
+        if self.plain:
+            bad = self._violations(qs, zs, np.asarray(sol.z), A, b, n_zero,
+                                   A.shape[0] - sum(self.soc), Ps)
+            if bad:
+                raise _Unverified(z, ", ".join(bad))
+        value = float(q @ z) if self.P is None else float(q @ z + 0.5 * z @ (self.P @ z))
+        return ConicSolution("optimal", z, value)
+
+    def _violations(self, q, z, y, A, b, n_zero: int, n_linear: int, P=None) -> list[str]:
+        """Check the answer in the equilibrated data given to Clarabel, where every row and column
+        has comparable weight: primal feasibility row by row (relative to the row's size times the
+        solution's, plus its right-hand side), dual feasibility column by column, and the duality
+        gap. Clarabel's own tolerances are global, so they let a row written at a much smaller
+        scale than the others go unnoticed."""
+        check = tol.SOLVER_CHECK_TOL
+        absA = abs(A)
+        r = b - A @ z  # the slack s, which must lie in K
+        # Each row against its own terms Σⱼ|A_ij z_j| + |b_i|: a row of 1e-8-sized terms must hold to
+        # 1e-14, however large the other rows.
+        # The floor is Clarabel's own accuracy on the equilibrated data, where the solution's
+        # entries have comparable sizes: a row whose terms all vanish holds to rounding, not 0.
+        row_size = np.asarray(absA.max(axis=1).todense()).ravel()
+        # (The equilibrated data have unit size, so a solution at the origin is measured against 1.)
+        z_unit = max(np.abs(z).max(initial=0.0), 1.0)
+        allowed = check * (absA @ np.abs(z) + np.abs(b)) + tol.SOLVER_TOL * row_size * z_unit
+        bad = []
+        lin = slice(n_zero, n_linear)
+        if np.any(np.abs(r[:n_zero]) > allowed[:n_zero]) or np.any(-r[lin] > allowed[lin]):
+            bad.append("primal feasibility")
+        row = n_linear
+        for k in self.soc:
+            if np.linalg.norm(r[row + 1:row + k]) - r[row] > allowed[row:row + k].max():
+                bad.append("primal feasibility (second-order cone)")
+            row += k
+        if P is None and not np.any(q):
+            return bad  # a feasibility program: every feasible point is optimal
+        # Dual: Aᵀy + q = 0 with y ∈ K* (Clarabel keeps y in the self-dual cones K), column by column
+        # against its own terms, with the same kind of floor (multipliers of inactive rows are
+        # ~1e-10, not 0); then the gap qᵀz + bᵀy against the terms of both sums.
+        col_size = np.asarray(absA.max(axis=0).todense()).ravel()
+        dual_allowed = check * (absA.T @ np.abs(y) + np.abs(q)) \
+            + tol.SOLVER_TOL * (col_size * np.abs(y).max(initial=0.0) + np.abs(q).max(initial=0.0))
+        Pz = np.zeros_like(z) if P is None else P @ z
+        dual_allowed = dual_allowed + check * (np.zeros_like(z) if P is None else abs(P) @ np.abs(z))
+        if np.any(np.abs(A.T @ y + q + Pz) > dual_allowed):
+            bad.append("dual feasibility")
+        y_size = np.abs(y).max(initial=0.0)
+        gap_allowed = check * (np.abs(q) @ np.abs(z) + np.abs(b) @ np.abs(y) + np.abs(z) @ np.abs(Pz)) \
+            + tol.SOLVER_TOL * (np.abs(q).max(initial=0.0) * z_unit + np.abs(b).max(initial=0.0) * y_size)
+        if abs(q @ z + z @ Pz + b @ y) > gap_allowed:
+            bad.append("duality gap")
+        return bad
+
+
+def conic_form(problem: cp.Problem, context: str, kind: str) -> tuple[ConicForm, np.ndarray, object,
+                                                                       object]:
+    """Compile ``problem``: (form, q, chain, inverse data)."""
+    data, chain, inverse = problem.get_problem_data(cp.CLARABEL, solver_opts={})
+    if data.get("lower_bounds") is not None or data.get("upper_bounds") is not None:
+        raise ValueError("conic_form handles problems without variable bounds only")
+    return (ConicForm(data["A"], data["b"], data["dims"], context, kind, data.get("P")),
+            np.asarray(data["c"], dtype=float), chain, inverse)
+
+
+def solve_problem(problem: cp.Problem, context: str, kind: str) -> str:
+    """Solve a CVXPY problem through `ConicForm`; on 'optimal' its variables hold the solution.
+
+    Returns
+    -------
+    str
+        'optimal', 'infeasible' or 'unbounded'.
+    """
+    form, q, chain, inverse = conic_form(problem, context, kind)
+    sol = form.solve(q)
+    if sol.status == "optimal":
+        _unpack(problem, sol.z, sol.value, chain, inverse)
+    return sol.status
+
+
+class _Raw:
+    """The fields of a Clarabel solution that CVXPY's inversion reads."""
+
+    def __init__(self, z: np.ndarray, value: float):
+        self.status, self.x, self.z, self.obj_val = "Solved", z, None, value  # no duals needed
+        self.solve_time, self.iterations = 0.0, 0
+
+
+def _unpack(problem: cp.Problem, z: np.ndarray, value: float, chain, inverse) -> None:
+    solution = chain.invert(_Raw(z, value), inverse)
+    problem.unpack(solution)
