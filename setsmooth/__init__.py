@@ -1,20 +1,36 @@
-"""setsmooth: set-membership filtering and smoothing with sets as CVXPY-constrained variables."""
+"""setsmooth: set-membership filtering and smoothing with sets as CVXPY-constrained variables.
 
-from .sets import (Box, CartesianProduct, ConstrainedZonotope, ConvexSet, Ellipsoid, EmptySet,
-                   GeneralizedIntersection, HPolytope, Intersection, LinearMap, MinkowskiSum, Reals,
-                   Zonotope)
-from .sets import (CORA_COMBASTEL, CORA_GIRARD, Combastel, DropDependentConstraints, DropZeros,
-                   EliminateConstraints, Girard, IntervalHull, MergeParallelGenerators, ReductionMethod,
-                   Rescale, reduce)
-from . import montecarlo, paper_examples
-from .filters import KalmanResult, classical_filter, interval_filter, kalman_filter, rts_smoother
-from .intervals import IntervalEstimates
-from .smoothers import interval_smoother, optimal_smoother
-from .solvers import SolverError
-from .systems import LinearSystem, NonlinearSystem, simulate
-from .trajectories import filtering_map, trajectory_set
+The public names are imported on first use (PEP 562 module ``__getattr__``): ``import setsmooth`` and
+the command line (``setsmooth figures --help``) do not pay for CVXPY, SciPy and the solvers until a
+set, system or estimator is touched. ``from setsmooth import *`` and ``setsmooth.Box`` behave as with
+eager imports.
+"""
+
+from __future__ import annotations
+
+from importlib import import_module
+from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
+
+#: Public name -> the submodule defining it (a name equal to its module's last part is the module).
+_EXPORTS = {
+    **dict.fromkeys(["ConvexSet", "Box", "Zonotope", "ConstrainedZonotope", "HPolytope", "Ellipsoid",
+                     "EmptySet", "Reals", "LinearMap", "MinkowskiSum", "Intersection",
+                     "GeneralizedIntersection", "CartesianProduct", "reduce", "ReductionMethod",
+                     "DropZeros", "DropDependentConstraints", "MergeParallelGenerators", "Rescale",
+                     "EliminateConstraints", "Girard", "Combastel", "IntervalHull", "CORA_GIRARD",
+                     "CORA_COMBASTEL"], ".sets"),
+    "SolverError": ".solvers",
+    **dict.fromkeys(["LinearSystem", "NonlinearSystem", "simulate"], ".systems"),
+    **dict.fromkeys(["classical_filter", "interval_filter", "kalman_filter", "rts_smoother",
+                     "KalmanResult"], ".filters"),
+    **dict.fromkeys(["optimal_smoother", "interval_smoother"], ".smoothers"),
+    **dict.fromkeys(["trajectory_set", "filtering_map"], ".trajectories"),
+    "IntervalEstimates": ".intervals",
+    "montecarlo": ".montecarlo",
+    "paper_examples": ".paper_examples",
+}
 
 __all__ = [
     "ConvexSet", "Box", "Zonotope", "ConstrainedZonotope", "HPolytope", "Ellipsoid", "EmptySet",
@@ -27,3 +43,33 @@ __all__ = [
     "Rescale", "EliminateConstraints", "Girard", "Combastel", "IntervalHull", "CORA_GIRARD",
     "CORA_COMBASTEL",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    target = _EXPORTS.get(name)
+    if target is None:
+        raise AttributeError(f"module 'setsmooth' has no attribute {name!r}")
+    module = import_module(target, __name__)
+    value = module if target == f".{name}" else getattr(module, name)
+    globals()[name] = value  # later look-ups are plain attribute reads
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
+
+
+if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
+    from . import montecarlo, paper_examples
+    from .filters import KalmanResult, classical_filter, interval_filter, kalman_filter, rts_smoother
+    from .intervals import IntervalEstimates
+    from .sets import (Box, CartesianProduct, ConstrainedZonotope, ConvexSet, Ellipsoid, EmptySet,
+                       GeneralizedIntersection, HPolytope, Intersection, LinearMap, MinkowskiSum, Reals,
+                       Zonotope)
+    from .sets import (CORA_COMBASTEL, CORA_GIRARD, Combastel, DropDependentConstraints, DropZeros,
+                       EliminateConstraints, Girard, IntervalHull, MergeParallelGenerators,
+                       ReductionMethod, Rescale, reduce)
+    from .smoothers import interval_smoother, optimal_smoother
+    from .solvers import SolverError
+    from .systems import LinearSystem, NonlinearSystem, simulate
+    from .trajectories import filtering_map, trajectory_set

@@ -5,7 +5,9 @@ The set of all state trajectories x_i..x_k consistent with y_i..y_k from a prior
     ⟦x_{i:k} | Z, y_{i:k}⟧ = { (x_i, …, x_k) : x_i ∈ Z,  x_{l+1} = A_l x_l + B_l w_l + u_l,
                                                y_l = C_l x_l + D_l v_l,  w_l ∈ W,  v_l ∈ V },
 
-is one sparse extended CZ (`trajectory_set`). Two projections carry the theory:
+is one sparse extended CZ (`trajectory_set`) when the prior, W and V flatten to CZs, and otherwise the
+lazy `TrajectorySet` of `setsmooth.trajectory_program` (one CVXPY problem over the stacked trajectory,
+compiled once and shared by its projections). Two projections carry the theory:
 
 * with i = 0 and Z = X0, its projection on x_l is the optimal smoothed range ⟦x_l | y_{0:k}⟧ (smoothing
   paper Theorem 1: the smoothed range is the set of x_l over all consistent trajectories);
@@ -39,21 +41,21 @@ import scipy.sparse as sp
 from ._validation import as_measurements
 from .sets.base import ConvexSet
 from .sets.constrained_zonotope import ConstrainedZonotope
+from .trajectory_program import TrajectorySet
 
-__all__ = ["trajectory_set", "filtering_map"]
+__all__ = ["trajectory_set", "filtering_map", "TrajectorySet"]
 
 
 def trajectory_set(system, prior: ConvexSet, ys: Any, start: int = 0,
-                   stop: int | None = None) -> ConstrainedZonotope:
+                   stop: int | None = None) -> ConstrainedZonotope | TrajectorySet:
     """The set of trajectories (x_start, …, x_stop) consistent with y_start..y_stop from ``prior``.
 
     Parameters
     ----------
     system : LinearSystem
-        Its W and V must flatten to constrained zonotopes (Box, Zonotope, CZ). Time-varying matrices
-        are read at the absolute times start..stop.
+        Any W and V (`ConvexSet`s). Time-varying matrices are read at the absolute times start..stop.
     prior : ConvexSet
-        The prior range of x_start (⟦x_0⟧ = X0 when ``start`` = 0); must flatten to a CZ.
+        The prior range of x_start (⟦x_0⟧ = X0 when ``start`` = 0).
     ys : array_like, shape (T+1, m)
         Measurements indexed by absolute time: ``ys[l]`` = y_l. Rows before ``start`` and after
         ``stop`` are not used.
@@ -64,14 +66,13 @@ def trajectory_set(system, prior: ConvexSet, ys: Any, start: int = 0,
 
     Returns
     -------
-    ConstrainedZonotope
-        Sparse, of dimension n(stop − start + 1); coordinates (l − start)·n .. (l − start + 1)·n − 1
-        hold x_l. All its projections share one factor set.
+    ConstrainedZonotope or TrajectorySet
+        Of dimension n(stop − start + 1); coordinates (l − start)·n .. (l − start + 1)·n − 1 hold x_l.
+        A sparse CZ when prior, W and V flatten to CZs (all its projections share one factor set);
+        otherwise a lazy `TrajectorySet` (all its projections share one compiled CVXPY problem).
 
     Raises
     ------
-    TypeError
-        If prior, W or V has no exact constrained-zonotope form.
     ValueError
         If ``prior`` is not a ConvexSet of dimension n, or ``start``/``stop`` lie outside [0, T] or
         ``stop`` < ``start``.
@@ -92,11 +93,13 @@ def trajectory_set(system, prior: ConvexSet, ys: Any, start: int = 0,
         raise ValueError(f"prior must be a ConvexSet of dimension n = {system.n}, got "
                          f"{prior.dim if isinstance(prior, ConvexSet) else type(prior).__name__}")
     start, stop = _window(start, stop, ys.shape[0] - 1)
+    if any(S._flat_cz is None for S in (prior, system.W, system.V)):
+        return TrajectorySet(system, prior, ys, start, stop)
     return _assemble(system, prior.to_constrained_zonotope(), system.W.to_constrained_zonotope(),
                      system.V.to_constrained_zonotope(), ys, start, stop)
 
 
-def filtering_map(system, prior: ConvexSet, ys: Any, i: int, k: int) -> ConstrainedZonotope:
+def filtering_map(system, prior: ConvexSet, ys: Any, i: int, k: int) -> ConvexSet:
     """F_{k,i}(prior): the posterior at time k of the classical filter started at time i from ``prior``.
 
     F_{k,i}(Z) = f_k ∘ … ∘ f_{i+1}(X_i(y_i) ∩ Z) for k > i and X_i(y_i) ∩ Z for k = i (stability paper
@@ -109,7 +112,7 @@ def filtering_map(system, prior: ConvexSet, ys: Any, i: int, k: int) -> Constrai
     ----------
     system : LinearSystem
     prior : ConvexSet
-        Z, a range of x_i (before y_i is used); must flatten to a CZ.
+        Z, a range of x_i (before y_i is used).
     ys : array_like, shape (T+1, m)
         Measurements indexed by absolute time (``ys[l]`` = y_l); rows i..k are used.
     i, k : int
@@ -117,12 +120,13 @@ def filtering_map(system, prior: ConvexSet, ys: Any, i: int, k: int) -> Constrai
 
     Returns
     -------
-    ConstrainedZonotope
-        F_{k,i}(prior), of dimension n (an extended CZ; empty when the data contradict the prior).
+    ConvexSet
+        F_{k,i}(prior), of dimension n (an extended CZ when prior, W and V flatten to CZs, otherwise a
+        projection of a `TrajectorySet`; empty when the data contradict the prior).
 
     Raises
     ------
-    TypeError, ValueError
+    ValueError
         As `trajectory_set`.
 
     Examples

@@ -157,13 +157,6 @@ def test_trajectory_projections_share_one_factor_set():
     assert len({id(S.factors) for S in smoothed}) == 1
 
 
-def test_trajectory_form_needs_cz_convertible_sets():
-    sys = ss.LinearSystem(np.eye(2), np.eye(2), np.eye(2), np.eye(2),
-                          ss.Ellipsoid([0, 0], np.eye(2)), ss.Box([-1, -1], [1, 1]))
-    with pytest.raises(TypeError, match="Ellipsoid has no exact constrained-zonotope form"):
-        ss.trajectory_set(sys, ss.Box([-1, -1], [1, 1]), np.zeros((3, 2)))
-
-
 @pytest.mark.parametrize("start,stop,match", [(-1, None, "start"), (2, 1, "start <= stop"),
                                               (0, 3, "T = 2"), (1.0, None, "integer")])
 def test_trajectory_window_outside_the_measurements_is_refused(start, stop, match):

@@ -42,32 +42,81 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
         or ``(ss.Rescale('iter'), ss.EliminateConstraints(1), ss.Girard(1))``. None (default): the
         exact filter.
     detect_empty : bool
-        Check each posterior for emptiness (one feasibility program per step) and return `EmptySet`
-        from the first empty one on. With False the sets are returned as computed; an empty one is
-        still empty (``is_empty()``), only not simplified.
+        Return `EmptySet` from the first empty posterior on. Emptiness of the exact posteriors is
+        monotone in k, so this is one feasibility program on the last posterior when the data are
+        consistent (a bisection otherwise), not one per step (with ``reduce``: one per step). With
+        False the sets are returned as computed; an empty one is still empty (``is_empty()``), only
+        not simplified.
 
     Returns
     -------
     list of ConvexSet
         ``posteriors[k]`` = ⟦x_k | y_{0:k}⟧, or a superset of it with ``reduce``. An empty posterior
         means the measurements are inconsistent with the model (ill-posedness is data, not an
-        exception).
+        exception). Without ``reduce``, when X0, W or V has no CZ form and X0 and W are bounded, the
+        posteriors are `FilteredState`s: the same sets as projections of one compiled trajectory
+        program (`setsmooth.trajectory_program`).
     """
     ys = as_measurements(ys, system.m)
     _check_state_set(X0, "X0", system.n)
-    methods = None if reduce is None else as_methods(reduce, "reduce")
+    if reduce is not None:
+        return _reduced_filter(system, X0, ys, as_methods(reduce, "reduce"), detect_empty)
+    posteriors: list[ConvexSet] | None = None
+    if any(S._flat_cz is None for S in (X0, system.W, system.V)):
+        # Without a CZ form the recursion's sets nest O(k) deep, one CVXPY compilation per query:
+        # the same posteriors as projections of one compiled trajectory program (bounded states).
+        from ..trajectory_program import filtered_ranges
+
+        posteriors = filtered_ranges(system, X0, ys)
+    if posteriors is None:
+        posteriors = []
+        prior = X0
+        for k, y in enumerate(ys):
+            if k > 0:
+                prior = _predict(system, k - 1, posteriors[-1])
+            posteriors.append(_update(system, k, prior, y))
+    if detect_empty:
+        first = _first_empty(posteriors)
+        posteriors[first:] = [EmptySet(system.n) for _ in range(first, len(posteriors))]
+    return posteriors
+
+
+def _reduced_filter(system, X0: ConvexSet, ys: np.ndarray, methods, detect_empty: bool
+                    ) -> list[ConvexSet]:
+    """The filter with a reduction after every update. An outer bound of an empty set need not be
+    empty, so emptiness is not monotone along a reduced filter: each reduced posterior is checked
+    before the next prediction uses it."""
     posteriors: list[ConvexSet] = []
     prior = X0
     for k, y in enumerate(ys):
         if k > 0:
             prior = _predict(system, k - 1, posteriors[-1])
-        posterior = _update(system, k, prior, y)
-        if methods is not None:
-            posterior = apply_methods(posterior, methods)
+        posterior = apply_methods(_update(system, k, prior, y), methods)
         if detect_empty and not isinstance(posterior, EmptySet) and posterior.is_empty():
             posterior = EmptySet(system.n)
         posteriors.append(posterior)
     return posteriors
+
+
+def _first_empty(posteriors: list[ConvexSet]) -> int:
+    """Index of the first empty posterior (len(posteriors) when none is empty), by bisection.
+
+    Emptiness is monotone in k: ⟦x_k | y_{0:k}⟧ = ∅ makes every later posterior empty (more data, fewer
+    consistent trajectories; in the recursion the prediction of an empty set is empty). So one
+    feasibility program on the last posterior settles a consistent data set, and ⌈log₂(T + 1)⌉ more
+    find the first empty one otherwise, instead of one program per step.
+    """
+    last = len(posteriors) - 1
+    if not posteriors[last].is_empty():
+        return last + 1
+    lo, hi = 0, last  # the first empty posterior lies in [lo, hi]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if posteriors[mid].is_empty():
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
 
 
 def predict(system, k: int, posterior: ConvexSet) -> ConvexSet:

@@ -189,8 +189,18 @@ class ConvexSet(AlgebraHooks, ABC):
         Returns
         -------
         Box
-            With possibly infinite ``lo``/``hi``; an `EmptySet` when the set is empty.
+            With possibly infinite ``lo``/``hi``; an `EmptySet` when the set is empty. Computed once
+            per (path, certified) and kept on the set (sets are immutable; `diameter` and `center`
+            reuse it). The kept hull is an immutable Box, so the set stays picklable.
         """
+        key = (self._check_path(path), certified)
+        hulls = self.__dict__.setdefault("_interval_hulls", {})
+        hull = hulls.get(key)
+        if hull is None:
+            hull = hulls[key] = self._interval_hull(*key)
+        return hull
+
+    def _interval_hull(self, path: str, certified: bool) -> "Box | ConvexSet":
         from .box import Box
         from .empty import EmptySet
 

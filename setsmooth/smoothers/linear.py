@@ -11,9 +11,10 @@ Two ways to compute the same sets (``method="auto"`` picks the second whenever i
 
 * ``method="recursion"``: the backward recursion above, on any representation;
 * ``method="trajectory"``: every smoothed range is a coordinate projection of one set, the set of all
-  trajectories (x_0, …, x_T) consistent with y_{0:T} (`trajectory_set`). It is assembled once as a
-  sparse extended CZ with O(T) factors and constraints and shared by all projections, so horizons of
-  hundreds of steps stay cheap.
+  trajectories (x_0, …, x_T) consistent with y_{0:T} (`trajectory_set`). It is assembled once, with
+  O(T) variables and constraints, and shared by all projections: a sparse extended CZ when X0, W and
+  V flatten to CZs, otherwise one CVXPY problem compiled once (`TrajectorySet`), so horizons of
+  hundreds of steps stay cheap for any representation.
 """
 
 from __future__ import annotations
@@ -42,11 +43,11 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
         Measurements y_0..y_T.
     method : {'auto', 'recursion', 'trajectory'}
         'recursion': the backward recursion of Algorithm 1 (any representation). 'trajectory':
-        projections of the trajectory set (`setsmooth.trajectories.trajectory_set`; X0, W, V must
-        flatten to constrained zonotopes), the same sets with O(T) instead of O(T²) constraints (36×
-        faster certified hulls at T = 50, ``benchmarks/bench_smoothing.py``). 'auto' (default): the
-        trajectory form when X0, W and V flatten to CZs and no ``posteriors`` are given, the
-        recursion otherwise.
+        projections of the trajectory set (`setsmooth.trajectories.trajectory_set`, any
+        representation), the same sets with O(T) instead of O(T²) constraints (36× faster certified
+        hulls at T = 50 for CZs, ``benchmarks/bench_smoothing.py``; for sets without a CZ form one
+        compiled CVXPY problem, ``benchmarks/bench_long_horizon.py``). 'auto' (default): the
+        trajectory form unless ``posteriors`` are given, the recursion then.
     posteriors : list of ConvexSet, optional
         Output of `classical_filter` for the same data, to avoid filtering twice. Only the recursion
         uses them ('auto' then takes the recursion).
@@ -60,9 +61,7 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
     ------
     ValueError
         For an unknown ``method``, ``posteriors`` with ``method='trajectory'`` (that form never reads
-        them), or ``posteriors`` of the wrong length.
-    TypeError
-        With ``method='trajectory'`` when X0, W or V has no exact CZ form.
+        them), or ``posteriors`` of the wrong length, or an ``X0`` that is not a set of dimension n.
 
     Examples
     --------
@@ -80,10 +79,9 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
                          "reads them (pass method='recursion', or drop posteriors)")
     ys = as_measurements(ys, system.m)
     if method == "auto":
-        flat = all(S._flat_cz is not None for S in (X0, system.W, system.V)) \
-            if isinstance(X0, ConvexSet) else False
-        method = "trajectory" if flat and posteriors is None else "recursion"
+        method = "trajectory" if posteriors is None else "recursion"
     if method == "trajectory":
+        _check_state_set(X0, "X0", system.n)
         return smoothed_ranges_from_trajectories(trajectory_set(system, X0, ys), system.n)
     if posteriors is None:
         posteriors = classical_filter(system, X0, ys)

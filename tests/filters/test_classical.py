@@ -87,3 +87,23 @@ def test_filter_rejects_an_initial_set_of_the_wrong_dimension():
 
 def _dense(M):
     return M.toarray() if sp.issparse(M) else np.asarray(M)
+
+
+@pytest.mark.parametrize("bad_step", [None, 0, 5, 11, 12])
+def test_emptiness_is_settled_by_one_program_per_data_set_with_the_per_step_answers(bad_step, monkeypatch):
+    """Bisection on the monotone emptiness gives EmptySet from exactly the step the per-step checks
+    find, with at most 1 + ⌈log₂(T + 1)⌉ feasibility programs (one when the data are consistent)."""
+    sys = example_31()
+    X0 = ss.Box([-1, -1], [1, 1])
+    _, ys = ss.simulate(sys, X0, 12, np.random.default_rng(13))
+    if bad_step is not None:
+        ys[bad_step] += 100.0
+    per_step = [P.is_empty() for P in ss.classical_filter(sys, X0, ys, detect_empty=False)]
+    calls = []
+    original = ss.ConstrainedZonotope._is_empty
+    monkeypatch.setattr(ss.ConstrainedZonotope, "_is_empty", lambda self: calls.append(1) or original(self))
+    posts = ss.classical_filter(sys, X0, ys)
+    assert [isinstance(P, ss.EmptySet) for P in posts] == per_step
+    first = len(ys) if bad_step is None else bad_step
+    assert per_step == [k >= first for k in range(len(ys))]
+    assert len(calls) == 1 if bad_step is None else len(calls) <= 1 + int(np.ceil(np.log2(len(ys))))
