@@ -171,11 +171,14 @@ class ConicForm:
         single = np.diff(A.indptr) == 1
         rows = np.full(self.nz, -1)
         rows[single] = A.indices[A.indptr[:-1][single]]
-        defined = single & (rows >= 0) & (rows < self.n_zero)
+        entry = np.zeros(self.nz)
+        entry[single] = np.abs(A.data[A.indptr[:-1][single]])
+        # An explicit zero (a parameter set to 0, e.g. a dropped measurement) defines nothing.
+        defined = single & (rows >= 0) & (rows < self.n_zero) & (entry > 0)
         if not defined.any():
             return c
         cols = np.flatnonzero(defined)
-        coef = np.abs(A.data[A.indptr[cols]])
+        coef = entry[cols]
         Z = abs(self.A[: self.n_zero]) @ sp.diags(np.where(defined, 0.0, c))
         others = np.maximum(np.asarray(Z.max(axis=1).todense()).ravel(),
                             np.abs(self.b[: self.n_zero]))[rows[cols]]
