@@ -11,8 +11,8 @@ stand between this and a number that is an upper bound in floating point:
   exactly. λ is first corrected by a least-squares step so that A_Fᵀλ ≈ g_F to rounding, and the
   remaining residual is charged against a rigorous bound ‖ξ_F‖∞ ≤ β: when the free factors are
   determined by the bounded ones (A_F has full column rank, as the trajectory set's states are),
-  ‖ξ_F‖₂ ≤ (‖b‖₂ + Σ_{j bounded} h_j ‖A_:j‖₂) / σ_min(A_F). Without such a bound the value is
-  uncertifiable and `SolverError('UncertifiableReducedCost')` is raised.
+  ‖ξ_F‖₂ ≤ ‖ |b_R| + |A_RB| h_B ‖₂ / σ_min(A_F) over the rows R that see a free factor. Without
+  such a bound the value is uncertifiable and `SolverError('UncertifiableReducedCost')` is raised.
 * **rounding**: every computed sum s̃ of N products obeys |s̃ − s| ≤ γ_N Σ|terms| with
   γ_N = N·u/(1 − N·u) (Higham, *Accuracy and Stability of Numerical Algorithms*, §3.1); the bound adds
   these terms, computed from absolute values, and is finally rounded upward.
@@ -76,9 +76,14 @@ def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray) -> float |
     lam_min = float(np.linalg.eigvalsh(gram)[0]) - gram_err - eig_err
     if not lam_min > 0:
         return None
+    # Only the rows that see a free factor constrain it: A_RF ξ_F = b_R − A_RB ξ_B, and σ_min(A_RF) =
+    # σ_min(A_F). So ‖ξ_F‖₂ ≤ ‖ |b_R| + |A_RB| h_B ‖₂ / σ_min(A_F): the other rows (the noises' own
+    # constraints, of their factors' scale) would only loosen it.
+    rows = np.unique(AF.indices)
     fin = np.flatnonzero(np.isfinite(h) & (h > 0))
-    col_norms = np.sqrt(np.asarray(A[:, fin].multiply(A[:, fin]).sum(axis=0)).reshape(-1))
-    rhs = (np.linalg.norm(b) + col_norms @ h[fin]) * (1.0 + gamma(A.shape[0] + fin.size + 4))
+    AR = sp.csr_matrix(A)[rows][:, fin]
+    residual = np.abs(b[rows]) + abs(AR) @ h[fin]
+    rhs = np.linalg.norm(residual) * (1.0 + gamma(A.shape[1] + 4))
     bound = rhs / np.sqrt(lam_min) * (1.0 + gamma(8))
     return float(bound) if np.isfinite(bound) else None
 
