@@ -105,6 +105,38 @@ def test_merging_parallel_zonotope_generators_is_exact():
     assert_supports_close(R.support_many(D), Z.support_many(D), rel=1e-12)
 
 
+def test_merging_nearly_parallel_generators_never_shrinks_the_set():
+    # Four generators 1e-11 apart (relative) along one coordinate: merged (they are within
+    # PARALLEL_TOL), but the spread is kept in a box, so no support value decreases, in any direction;
+    # the closed-form zonotope support resolves 1e-11 where an LP could not.
+    rng = np.random.default_rng(3)
+    v = np.array([1.0, 2.0, 0.0])  # the spread is along e3 ⟂ v: one box generator keeps it
+    G = np.column_stack([v, -2.0 * v + [0, 0, 2e-11], 0.5 * v + [0, 0, -1e-11], 3.0 * v + [0, 0, 3e-11],
+                         rng.standard_normal(3)])
+    Z = ss.Zonotope(G, np.zeros(3))
+    R = ss.reduce(Z, ss.MergeParallelGenerators())
+    assert R.ng < Z.ng
+    e3 = np.array([0.0, 0.0, 1.0])  # where the spread shows
+    D = np.vstack([_random_directions(rng, 3, 300), e3, -e3])
+    hz, hr = Z.support_many(D), R.support_many(D)
+    assert np.all(hr >= hz - 4 * np.finfo(float).eps * np.abs(hz).max())
+    # The same for the lifted columns of a CZ (LP supports: checked against the box the spread adds).
+    S = ss.ConstrainedZonotope(G, np.zeros(3), A=[[1.0, -2.0, 0.5, 3.0, 1.0]], b=[0.1])
+    RS = ss.reduce(S, ss.MergeParallelGenerators())
+    assert RS.ng < S.ng
+    assert np.all(RS.support_many(D) >= S.support_many(D) - 1e-9)
+
+
+def test_exactly_parallel_generators_merge_without_a_box():
+    v = np.array([1.0, 2.0, -0.5])
+    Z = ss.Zonotope(np.column_stack([v, -2.0 * v, 0.5 * v]), np.zeros(3))
+    R = ss.reduce(Z, ss.MergeParallelGenerators())
+    assert R.ng == 1
+    # 1 + 2 + 0.5 along v, rounded outward only (no box: nothing is left over).
+    assert np.all(np.abs(R.G[:, 0]) >= 3.5 * np.abs(v))
+    np.testing.assert_allclose(np.abs(R.G[:, 0]), 3.5 * np.abs(v), rtol=1e-14)
+
+
 def test_a_free_factor_merged_with_a_parallel_bounded_one_stays_free():
     Z = ss.ConstrainedZonotope([[1.0, 2.0, 0.0]], [0.0], A=[[1.0, 2.0, 1.0]], b=[0.0], h=[np.inf, 1.0, 1.0])
     R = ss.reduce(Z, ss.MergeParallelGenerators())

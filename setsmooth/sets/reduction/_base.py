@@ -119,4 +119,5 @@ def abs_sum_upper(M: np.ndarray, axis: int = 1) -> np.ndarray:
     """An upper bound, rigorous in floating point, on Σ|M_ij| along ``axis`` (γ_k of the k terms)."""
     k = M.shape[axis]
     s = np.abs(M).sum(axis=axis)
-    return round_up(s * (1.0 + 2.0 * tol.gamma(k + 1)))
+    # An exactly zero sum (every term zero) stays zero: no rounding happened.
+    return np.where(s == 0.0, 0.0, round_up(s * (1.0 + 2.0 * tol.gamma(k + 1))))
