@@ -242,6 +242,31 @@ def test_girard_box_is_rigorous_in_floating_point():
     assert R.ng == 1 and Fraction(R.G[0, 0]) >= 40 * Fraction(0.1)
 
 
+@pytest.mark.parametrize("method", [ss.Girard(1), ss.Combastel(1)])
+def test_lifted_box_of_a_cz_with_non_unit_bounds_is_rigorous_in_floating_point(method):
+    # Bounds h = 0.1·(1 + j/7): the products |g|·h round. The boxed lifted radius must contain the
+    # exact rational sum Σ h_j |L_ij| of whatever was boxed, and every kept column keeps its bound.
+    ng = 30
+    G = np.full((1, ng), 0.3)
+    A = np.full((1, ng), 0.7)
+    h = np.array([0.1 * (1 + j / 7) for j in range(ng)])
+    Z = ss.ConstrainedZonotope(G, [0.0], A=A, b=[0.0], h=h)
+    R = ss.reduce(Z, method)
+    exact_g = sum(Fraction(0.3) * Fraction(x) for x in h)
+    exact_a = sum(Fraction(0.7) * Fraction(x) for x in h)
+    # Everything is boxed here (ng ≫ target 2): one G-row and one A-row radius, bound 1.
+    assert R.ng == 2 and np.all(R.h == 1.0)
+    assert Fraction(np.abs(R.G).max()) * Fraction(R.h[0]) >= exact_g
+    assert Fraction(np.abs(R.A).max()) >= exact_a
+
+
+def test_interval_hull_of_an_unconstrained_cz_with_non_unit_bounds_is_rigorous():
+    h = np.array([0.1 * (1 + j / 7) for j in range(25)])
+    Z = ss.ConstrainedZonotope(np.full((1, 25), 0.3), [0.0], h=h)
+    box = ss.reduce(Z, ss.IntervalHull())
+    assert Fraction(box.hi[0]) >= sum(Fraction(0.3) * Fraction(x) for x in h)
+
+
 # --------------------------------------------------------------------------------------------------
 # Counts after reduction
 # --------------------------------------------------------------------------------------------------
@@ -283,6 +308,40 @@ def test_cora_pipeline_keeps_one_constraint_and_dof_order_one():
         assert R.nc <= 1 and R.ng - R.nc <= n
     assert ss.CORA_GIRARD == (ss.Rescale("iter"), ss.EliminateConstraints(1), ss.Girard(1))
     assert ss.CORA_COMBASTEL == (ss.Rescale("iter"), ss.EliminateConstraints(1), ss.Combastel(1))
+
+
+def test_cora_pipeline_propagates_once_per_elimination_step(monkeypatch):
+    # Rescale('iter') right before EliminateConstraints would repeat the elimination's first
+    # propagation on the same data; the pipeline runs it once per step, and keeps the set of the
+    # pipeline applied method by method (both contain Z; supports agree to rounding).
+    import setsmooth.sets.reduction.constraints as constraints
+    import setsmooth.sets.reduction.rescale as rescale
+    calls = []
+
+    def counting(A, b, h):
+        calls.append(A.shape)
+        return propagate(A, b, h)
+    monkeypatch.setattr(constraints, "propagate", counting)
+    monkeypatch.setattr(rescale, "propagate", counting)
+    rng = np.random.default_rng(8)
+    n, ng, nc = 3, 12, 4
+    A = rng.standard_normal((nc, ng))
+    Z = ss.ConstrainedZonotope(rng.standard_normal((n, ng)), np.zeros(n), A=A, b=A @ rng.uniform(-0.5, 0.5, ng))
+    R = ss.reduce(Z, ss.CORA_GIRARD)
+    piped = len(calls)
+    calls.clear()
+    R_alone = ss.reduce(Z, (ss.EliminateConstraints(1), ss.Girard(1)))
+    assert piped == len(calls) == nc  # one per step: nc → 1, plus the step that stops at 1
+    calls.clear()
+    stepwise = Z
+    for method in ss.CORA_GIRARD:
+        stepwise = ss.reduce(stepwise, method)
+    assert len(calls) == nc + 1  # the repeated propagation the pipeline avoids
+    D = _random_directions(rng, n, 100)
+    hz, hr, ha = Z.support_many(D), R.support_many(D), R_alone.support_many(D)
+    scale = support_scale(hz, hr)
+    assert np.all(hr >= hz - 1e-7 * scale)
+    np.testing.assert_allclose(hr, ha, rtol=1e-9, atol=1e-9 * scale)
 
 
 # --------------------------------------------------------------------------------------------------
@@ -367,8 +426,14 @@ def test_bad_arguments_are_refused_at_the_door():
         ss.Rescale("fast")
     with pytest.raises(ValueError, match="max_constraints"):
         ss.EliminateConstraints(-1)
-    with pytest.raises(ValueError, match="max_constraints"):
+    with pytest.raises(TypeError, match="max_constraints"):
         ss.EliminateConstraints(1.5)
+    with pytest.raises(TypeError, match="max_constraints"):
+        ss.EliminateConstraints(True)
+    with pytest.raises(TypeError, match="order"):
+        ss.Girard(True)
+    with pytest.raises(TypeError, match="order"):
+        ss.Combastel("1")
     with pytest.raises(TypeError, match="method_or_methods"):
         ss.reduce(Z, "girard")
     with pytest.raises(TypeError, match="method_or_methods"):

@@ -34,10 +34,41 @@ __all__ = ["EliminateConstraints", "eliminate_factor"]
 
 
 def eliminate_factor(d: CZData, j: int) -> CZData:
-    """Scott (27)/(29): drop the bound of factor j and eliminate it through a row where it appears.
+    """Scott et al. 2016 (27)/(29): drop the bound of factor j and eliminate it through a row where it
+    appears.
 
     The row is the one where |a_ij| is largest relative to the row's size: any row gives the same set
     in exact arithmetic (CORA takes the first), this one is the best-conditioned pivot.
+
+    Parameters
+    ----------
+    d : CZData
+        The data Z(G, c, A, b, h), dense.
+    j : int
+        The factor to eliminate; column j of A must be non-zero.
+
+    Returns
+    -------
+    CZData
+        One factor and one constraint fewer: Z(G − Λ_G A, c + Λ_G b, A − Λ_A A, b − Λ_A b) with row i
+        and column j removed. It contains Z (exactly Z when the bound |ξ_j| ≤ h_j is implied).
+
+    Notes
+    -----
+    Floating point: the substitution is evaluated rounded to nearest. The result is the set of the
+    substituted data in exact arithmetic, so in floating point it contains Z only up to the roundoff
+    of the rank-one updates: within γ_2·(|G_kl| + |g_kj||a_il/a_ij|) per entry of G and A, and alike
+    for c and b (a rigorous margin would be an error in an equality constraint, which a CZ cannot
+    hold). The final box of `Girard`/`Combastel`/`IntervalHull` is rigorous for the data it receives.
+
+    Examples
+    --------
+    >>> import numpy as np, setsmooth as ss
+    >>> from setsmooth.sets.reduction._base import CZData
+    >>> Z = ss.ConstrainedZonotope(np.eye(2), np.zeros(2), A=[[1.0, 1.0]], b=[0.0], h=[1.0, np.inf])
+    >>> out = eliminate_factor(CZData.of(Z), 1)
+    >>> out.to_set(), out.G.tolist(), out.c.tolist()
+    (ConstrainedZonotope(dim=2, ng=1, nc=0), [[1.0], [-1.0]], [0.0, 0.0])
     """
     col = d.A[:, j]
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -86,6 +117,21 @@ class EliminateConstraints(ReductionMethod):
     max_constraints : int
         The largest number of constraints the result may keep (≥ 0).
 
+    Raises
+    ------
+    TypeError
+        If ``max_constraints`` is not an integer (a bool or a float is refused).
+    ValueError
+        If ``max_constraints`` < 0.
+
+    Notes
+    -----
+    Each step begins with the propagation and rescaling of `Rescale('iter')`, so a ``Rescale('iter')``
+    placed right before this method in a sequence (as in `CORA_GIRARD`) would repeat it:
+    `apply_methods` skips that Rescale (the result is the same set).
+    Floating point: the bounds are rigorous; the substitutions are exact up to the roundoff of the
+    data (see `eliminate_factor`).
+
     Examples
     --------
     >>> import numpy as np, setsmooth as ss
@@ -98,7 +144,10 @@ class EliminateConstraints(ReductionMethod):
 
     def __post_init__(self):
         k = self.max_constraints
-        if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 0:
+        if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
+            raise TypeError(f"max_constraints must be an integer ≥ 0, got {k!r} "
+                            f"({type(k).__name__})")
+        if k < 0:
             raise ValueError(f"max_constraints must be an integer ≥ 0, got {k!r}")
 
     def _on_zonotope(self, Z: Zonotope) -> Zonotope:
@@ -146,7 +195,7 @@ def _rescaled(d: CZData):
     never claimed wrongly), which makes eliminating j exact. ``r[j] = max(0, max|R_j| − 1)`` in the
     rescaled coordinates, the measure of the heuristic (A.8); ∞ for a free factor.
     """
-    lo, hi, Rlo, Rhi, crossed = propagate(d.A, d.b, d.h)
+    lo, hi, Rlo, Rhi, crossed = propagate(d.A, d.b, d.h)  # FactorBounds
     if crossed and d.to_set().is_empty():
         return None
     out = rescale_data(d, lo, hi)
