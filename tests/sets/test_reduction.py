@@ -344,6 +344,24 @@ def test_cora_pipeline_propagates_once_per_elimination_step(monkeypatch):
     np.testing.assert_allclose(hr, ha, rtol=1e-9, atol=1e-9 * scale)
 
 
+def test_eliminating_through_a_row_cancels_a_dependent_row_to_nothing():
+    # Row 1 = 0.1·row 0 (the data of a set-algebra chain can carry such pairs): substituting factor
+    # 2 through row 0 cancels row 1 to rounding noise (~1e-17), which interval propagation would take
+    # literally after normalizing the row. It is dropped, not kept as a bogus constraint.
+    from setsmooth.sets.reduction._base import CZData
+    from setsmooth.sets.reduction.constraints import eliminate_factor
+    r0 = np.array([0.7, 0.1, 0.3, 0.9])
+    A = np.vstack([r0, 0.1 * r0])
+    xi = np.array([0.2, -0.4, 0.1, 0.3])
+    Z = ss.ConstrainedZonotope(np.array([[1.0, 0.3, 0.2, 0.0], [0.0, 1.0, -0.5, 0.4]]), np.zeros(2),
+                               A=A, b=A @ xi)
+    out = eliminate_factor(CZData.of(Z), 2)
+    assert out.nc == 0 and out.ng == 3
+    R = out.to_set()
+    D = _random_directions(np.random.default_rng(0), 2, 50)
+    assert np.all(R.support_many(D) >= Z.support_many(D) - 1e-9)
+
+
 # --------------------------------------------------------------------------------------------------
 # Extended CZs, empty sets, unsupported types, bad input
 # --------------------------------------------------------------------------------------------------

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ... import tolerances as tol
 from ..box import Box
 from ..constrained_zonotope import ConstrainedZonotope
 from ..empty import EmptySet
@@ -51,14 +52,16 @@ def eliminate_factor(d: CZData, j: int) -> CZData:
     -------
     CZData
         One factor and one constraint fewer: Z(G − Λ_G A, c + Λ_G b, A − Λ_A A, b − Λ_A b) with row i
-        and column j removed. It contains Z (exactly Z when the bound |ξ_j| ≤ h_j is implied).
+        and column j removed (and any row that cancels to 0 = 0, i.e. was dependent on row i). It
+        contains Z (exactly Z when the bound |ξ_j| ≤ h_j is implied).
 
     Notes
     -----
     Floating point: the substitution is evaluated rounded to nearest. The result is the set of the
     substituted data in exact arithmetic, so in floating point it contains Z only up to the roundoff
-    of the rank-one updates: within γ_2·(|G_kl| + |g_kj||a_il/a_ij|) per entry of G and A, and alike
-    for c and b (a rigorous margin would be an error in an equality constraint, which a CZ cannot
+    of the rank-one updates: within γ_3·(|G_kl| + |g_kj||a_il/a_ij|) per entry of G and A, and alike
+    for c and b; entries of A and b within twice that bound are set to zero (cancellation noise of a
+    dependent row) (a rigorous margin would be an error in an equality constraint, which a CZ cannot
     hold). The final box of `Girard`/`Combastel`/`IntervalHull` is rigorous for the data it receives.
 
     Examples
@@ -78,9 +81,18 @@ def eliminate_factor(d: CZData, j: int) -> CZData:
     row_A, row_b = d.A[i] / a, d.b[i] / a
     G = d.G - np.outer(d.G[:, j], row_A)
     c = d.c + d.G[:, j] * row_b
-    A = d.A - np.outer(col, row_A)
-    b = d.b - col * row_b
+    update_A, update_b = np.outer(col, row_A), col * row_b
+    A = d.A - update_A
+    b = d.b - update_b
+    # A row dependent on row i cancels to rounding noise (~1e-16 entries), which propagation would
+    # take literally once the row is normalized: an entry within the rounding bound of its own
+    # computation (γ_3: the division, the product, the subtraction) is zero up to roundoff.
+    g = 2.0 * tol.gamma(3)
+    A[np.abs(A) <= g * (np.abs(d.A) + np.abs(update_A))] = 0.0
+    b[np.abs(b) <= g * (np.abs(d.b) + np.abs(update_b))] = 0.0
     keep_rows = np.arange(d.nc) != i
+    # A row that cancelled completely (0 = 0) is dropped with row i.
+    keep_rows &= np.any(A != 0.0, axis=1) | (b != 0.0)
     keep_cols = np.arange(d.ng) != j
     return CZData(G[:, keep_cols], c, A[np.ix_(keep_rows, keep_cols)], b[keep_rows], d.h[keep_cols],
                   d.sparse)
