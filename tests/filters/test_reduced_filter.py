@@ -1,9 +1,9 @@
 """The bounded (reduced) classical filter: an outer bound of the exact posterior, every step.
 
-Monte Carlo over random `control.drss` systems (n = 2..10, m = 1..n outputs, horizon 8 (20 in benchmarks/bench_reduction.py --montecarlo), seeded),
-with box noises (drawn uniformly or at the vertices, the hardest case for a bound) and
-constrained-zonotope noises: the true state must be inside every reduced posterior; on a subset,
-every reduced posterior must contain the exact one.
+Monte Carlo over random `control.drss` systems (n = 2..10, m = 1..n outputs, horizon 8, seeded; 20
+steps in ``benchmarks/bench_reduction.py --montecarlo``), with box noises (drawn uniformly or at the
+vertices, the hardest case for a bound) and constrained-zonotope noises: the true state must be
+inside every reduced posterior; on a subset, every reduced posterior must contain the exact one.
 """
 
 import control

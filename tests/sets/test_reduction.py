@@ -302,7 +302,8 @@ def test_cora_pipeline_keeps_one_constraint_and_dof_order_one():
     rng = np.random.default_rng(5)
     n, ng, nc = 4, 20, 8
     A = rng.standard_normal((nc, ng))
-    Z = ss.ConstrainedZonotope(rng.standard_normal((n, ng)), np.zeros(n), A=A, b=A @ rng.uniform(-0.5, 0.5, ng))
+    Z = ss.ConstrainedZonotope(rng.standard_normal((n, ng)), np.zeros(n), A=A,
+                               b=A @ rng.uniform(-0.5, 0.5, ng))
     for pipeline in (ss.CORA_GIRARD, ss.CORA_COMBASTEL):
         R = ss.reduce(Z, pipeline)
         assert R.nc <= 1 and R.ng - R.nc <= n
@@ -326,7 +327,8 @@ def test_cora_pipeline_propagates_once_per_elimination_step(monkeypatch):
     rng = np.random.default_rng(8)
     n, ng, nc = 3, 12, 4
     A = rng.standard_normal((nc, ng))
-    Z = ss.ConstrainedZonotope(rng.standard_normal((n, ng)), np.zeros(n), A=A, b=A @ rng.uniform(-0.5, 0.5, ng))
+    Z = ss.ConstrainedZonotope(rng.standard_normal((n, ng)), np.zeros(n), A=A,
+                               b=A @ rng.uniform(-0.5, 0.5, ng))
     R = ss.reduce(Z, ss.CORA_GIRARD)
     piped = len(calls)
     calls.clear()

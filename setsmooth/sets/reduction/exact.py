@@ -179,6 +179,15 @@ class MergeParallelGenerators(ReductionMethod):
     set and the constraints alike). Columns only nearly parallel (within ``PARALLEL_TOL``) are merged
     along the first one and their orthogonal leftovers boxed into extra generators (`merge_group`),
     so the result always contains the set; a group is merged only when that makes it smaller.
+    ``exact`` stays True: the set grows only by the boxed leftover, at most ``PARALLEL_TOL`` relative
+    to the merged columns, and not at all for exactly parallel ones.
+
+    Examples
+    --------
+    >>> import numpy as np, setsmooth as ss
+    >>> ss.reduce(ss.Zonotope([[1.0, -2.0, 0.0], [1.0, -2.0, 1.0]], [0.0, 0.0]),
+    ...           ss.MergeParallelGenerators()).ng
+    2
     """
 
     exact = True
