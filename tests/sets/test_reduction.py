@@ -364,6 +364,25 @@ def test_eliminating_through_a_row_cancels_a_dependent_row_to_nothing():
     assert np.all(R.support_many(D) >= Z.support_many(D) - 1e-9)
 
 
+def test_elimination_does_not_call_a_set_empty_when_the_solver_cannot_settle_it(monkeypatch):
+    # Propagation finds point-like data a hair infeasible; if the emptiness program then cannot be
+    # settled, the set is not declared empty (the result must still contain it).
+    import setsmooth.sets.reduction.constraints as constraints
+    from setsmooth.sets.reduction.rescale import FactorBounds
+
+    def crossed(A, b, h):
+        fb = propagate(A, b, h)
+        return FactorBounds(fb.lo, fb.hi, fb.Rlo, fb.Rhi, True)
+
+    def unsettled(self):
+        raise ss.SolverError("AlmostPrimalInfeasible", "test")
+    monkeypatch.setattr(constraints, "propagate", crossed)
+    monkeypatch.setattr(ss.ConstrainedZonotope, "is_empty", unsettled)
+    Z = ss.ConstrainedZonotope(np.eye(3), np.zeros(3), A=[[1.0, 1.0, 0.0], [0.0, 1.0, 1.0]], b=[0.5, 0.2])
+    R = ss.reduce(Z, ss.EliminateConstraints(1))
+    assert isinstance(R, ss.ConstrainedZonotope)
+
+
 # --------------------------------------------------------------------------------------------------
 # Extended CZs, empty sets, unsupported types, bad input
 # --------------------------------------------------------------------------------------------------

@@ -30,6 +30,7 @@ from ._base import CZData, ReductionMethod
 from .exact import DropDependentConstraints, DropZeros
 from .rescale import propagate, rescale_data
 from ...linalg import independent_rows
+from ...solvers import SolverError
 
 __all__ = ["EliminateConstraints", "eliminate_factor"]
 
@@ -208,7 +209,7 @@ def _rescaled(d: CZData):
     rescaled coordinates, the measure of the heuristic (A.8); ∞ for a free factor.
     """
     lo, hi, Rlo, Rhi, crossed = propagate(d.A, d.b, d.h)  # FactorBounds
-    if crossed and d.to_set().is_empty():
+    if crossed and _proven_empty(d):
         return None
     out = rescale_data(d, lo, hi)
     bounded = np.isfinite(lo) & np.isfinite(hi)
@@ -222,7 +223,23 @@ def _rescaled(d: CZData):
         return out, r, inside  # columns scaled by r > 0: the rank is unchanged
     # A factor pinned to a point has a zero column now, which can leave rows dependent; the
     # heuristic's KKT matrix needs A of full row rank. Dropping a dependent row loses nothing.
+    # A dependent row that disagrees is roundoff of the re-centring b − A m (a pinned factor leaves a
+    # point-like set, where that roundoff is all there is): emptiness is judged on the data before
+    # rescaling, which the rescaled data re-parametrize.
     basis = independent_rows(out.A, out.b)
-    if not basis.consistent and out.to_set().is_empty():
+    if not basis.consistent and _proven_empty(d):
         return None
     return out.keep_rows(basis.keep), r, inside
+
+
+def _proven_empty(d: CZData) -> bool:
+    """`is_empty` of the data, False when the solver cannot settle it (`SolverError`).
+
+    Called only where propagation found the data a hair infeasible, which happens for point-like
+    sets (extreme noise realizations) whose emptiness program is degenerate. Not declaring the set
+    empty keeps a superset: the caller goes on as for a set `is_empty` calls non-empty.
+    """
+    try:
+        return d.to_set().is_empty()
+    except SolverError:
+        return False
