@@ -19,6 +19,12 @@ reduced ones. One system per n (the paper averages 100); times are this machine'
 
     python benchmarks/bench_reduction.py            # n = 10, 20, 30: a few minutes
     python benchmarks/bench_reduction.py --quick    # n = 10 only, 31 steps
+    PYTHONPATH=. python benchmarks/bench_reduction.py --montecarlo 1000 --mc-steps 20
+
+``--montecarlo RUNS`` runs the Monte Carlo of tests/filters/test_reduced_filter.py (its `trial`
+generator: drss systems n = 2..10, m ≤ n outputs, box-uniform, box-vertex and CZ noises, the five
+pipelines in rotation) at a longer horizon than the test affords, and prints how many true states
+fall outside their reduced posterior (the claim: 0), per pipeline.
 
 BLAS runs single-threaded here (OPENBLAS_NUM_THREADS=1 unless set): the filters' dense algebra is
 small (≤ 120×120), and on a shared 2-core machine OpenBLAS's threads made a 120×120×90 product take
@@ -77,11 +83,44 @@ def run_filter(system, X0, ys, methods):
     return np.array(times), np.array(radii), post
 
 
+def montecarlo(runs: int, steps: int) -> None:
+    """True states outside the reduced posteriors over `runs` seeded runs of `steps` steps."""
+    from collections import Counter
+
+    from tests.filters.test_reduced_filter import PIPELINES as MC_PIPELINES
+    from tests.filters.test_reduced_filter import holds, trial
+
+    outside, states, runs_by, secs = Counter(), Counter(), Counter(), Counter()
+    short_m = 0
+    for run in range(runs):
+        system, X0, xs, ys, name = trial(run, horizon=steps)
+        short_m += system.m < system.n
+        start = time.perf_counter()
+        posteriors = ss.classical_filter(system, X0, ys, reduce=MC_PIPELINES[name], detect_empty=False)
+        secs[name] += time.perf_counter() - start
+        runs_by[name] += 1
+        for post, x in zip(posteriors, xs):
+            states[name] += 1
+            outside[name] += not holds(post, x)
+    print(f"Monte Carlo: {runs} runs × {steps} steps (posteriors k = 0..{steps}), m < n in {short_m} runs")
+    print(f"{'pipeline':<24} {'runs':>5} {'states':>7} {'outside':>8} {'ms/step':>8}")
+    for name in MC_PIPELINES:
+        print(f"{name:<24} {runs_by[name]:>5} {states[name]:>7} {outside[name]:>8} "
+              f"{1e3 * secs[name] / max(states[name], 1):>8.2f}")
+    print(f"{'total':<24} {runs:>5} {sum(states.values()):>7} {sum(outside.values()):>8}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--quick", action="store_true", help="n = 10 only, 31 steps")
     parser.add_argument("--seed", type=int, default=2024)
+    parser.add_argument("--montecarlo", type=int, metavar="RUNS", default=0,
+                        help="run the reduced-filter Monte Carlo (RUNS runs) instead of the table")
+    parser.add_argument("--mc-steps", type=int, default=20, help="steps per Monte-Carlo run")
     args = parser.parse_args()
+    if args.montecarlo:
+        montecarlo(args.montecarlo, args.mc_steps)
+        return
     sizes = [10] if args.quick else [10, 20, 30]
     steps = 31 if args.quick else 101
 

@@ -62,10 +62,15 @@ def nearly_equal(a: float, b: float, tol: float = MEMBERSHIP_TOL) -> bool:
         return bool(a == b)
     return abs(a - b) <= scaled(tol, max(abs(a), abs(b)))
 
-#: Relative tolerance below which two generators (unit-normalized, sign-aligned) count as parallel
-#: and are merged by `MergeParallelGenerators`; the merge moves the set by at most this fraction of
-#: the merged generators' length.
+#: Relative tolerance below which two generators (unit-normalized, sign-aligned) are candidates for
+#: merging by `MergeParallelGenerators`; what is left over beyond rounding level is kept in a box, so
+#: the merge never shrinks the set.
 PARALLEL_TOL = 1e-10
+
+#: Screen of `MergeParallelGenerators` on the Gram matrix of unit generators: |cos| ≥ 1 − this makes
+#: a pair a candidate, confirmed on the columns against ``PARALLEL_TOL`` (the Gram matrix cannot
+#: resolve angles below ~1e-8).
+PARALLEL_COS_TOL = 1e-6
 
 #: Unit roundoff of IEEE double precision (2⁻⁵³): the rigorous rounding bounds of order reduction.
 UNIT_ROUNDOFF = float(np.finfo(float).eps) / 2

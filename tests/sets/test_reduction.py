@@ -105,6 +105,38 @@ def test_merging_parallel_zonotope_generators_is_exact():
     assert_supports_close(R.support_many(D), Z.support_many(D), rel=1e-12)
 
 
+def test_merging_nearly_parallel_generators_never_shrinks_the_set():
+    # Four generators 1e-11 apart (relative) along one coordinate: merged (they are within
+    # PARALLEL_TOL), but the spread is kept in a box, so no support value decreases, in any direction;
+    # the closed-form zonotope support resolves 1e-11 where an LP could not.
+    rng = np.random.default_rng(3)
+    v = np.array([1.0, 2.0, 0.0])  # the spread is along e3 ⟂ v: one box generator keeps it
+    G = np.column_stack([v, -2.0 * v + [0, 0, 2e-11], 0.5 * v + [0, 0, -1e-11], 3.0 * v + [0, 0, 3e-11],
+                         rng.standard_normal(3)])
+    Z = ss.Zonotope(G, np.zeros(3))
+    R = ss.reduce(Z, ss.MergeParallelGenerators())
+    assert R.ng < Z.ng
+    e3 = np.array([0.0, 0.0, 1.0])  # where the spread shows
+    D = np.vstack([_random_directions(rng, 3, 300), e3, -e3])
+    hz, hr = Z.support_many(D), R.support_many(D)
+    assert np.all(hr >= hz - 4 * np.finfo(float).eps * np.abs(hz).max())
+    # The same for the lifted columns of a CZ (LP supports: checked against the box the spread adds).
+    S = ss.ConstrainedZonotope(G, np.zeros(3), A=[[1.0, -2.0, 0.5, 3.0, 1.0]], b=[0.1])
+    RS = ss.reduce(S, ss.MergeParallelGenerators())
+    assert RS.ng < S.ng
+    assert np.all(RS.support_many(D) >= S.support_many(D) - 1e-9)
+
+
+def test_exactly_parallel_generators_merge_without_a_box():
+    v = np.array([1.0, 2.0, -0.5])
+    Z = ss.Zonotope(np.column_stack([v, -2.0 * v, 0.5 * v]), np.zeros(3))
+    R = ss.reduce(Z, ss.MergeParallelGenerators())
+    assert R.ng == 1
+    # 1 + 2 + 0.5 along v, rounded outward only (no box: nothing is left over).
+    assert np.all(np.abs(R.G[:, 0]) >= 3.5 * np.abs(v))
+    np.testing.assert_allclose(np.abs(R.G[:, 0]), 3.5 * np.abs(v), rtol=1e-14)
+
+
 def test_a_free_factor_merged_with_a_parallel_bounded_one_stays_free():
     Z = ss.ConstrainedZonotope([[1.0, 2.0, 0.0]], [0.0], A=[[1.0, 2.0, 1.0]], b=[0.0], h=[np.inf, 1.0, 1.0])
     R = ss.reduce(Z, ss.MergeParallelGenerators())
@@ -210,6 +242,31 @@ def test_girard_box_is_rigorous_in_floating_point():
     assert R.ng == 1 and Fraction(R.G[0, 0]) >= 40 * Fraction(0.1)
 
 
+@pytest.mark.parametrize("method", [ss.Girard(1), ss.Combastel(1)])
+def test_lifted_box_of_a_cz_with_non_unit_bounds_is_rigorous_in_floating_point(method):
+    # Bounds h = 0.1·(1 + j/7): the products |g|·h round. The boxed lifted radius must contain the
+    # exact rational sum Σ h_j |L_ij| of whatever was boxed, and every kept column keeps its bound.
+    ng = 30
+    G = np.full((1, ng), 0.3)
+    A = np.full((1, ng), 0.7)
+    h = np.array([0.1 * (1 + j / 7) for j in range(ng)])
+    Z = ss.ConstrainedZonotope(G, [0.0], A=A, b=[0.0], h=h)
+    R = ss.reduce(Z, method)
+    exact_g = sum(Fraction(0.3) * Fraction(x) for x in h)
+    exact_a = sum(Fraction(0.7) * Fraction(x) for x in h)
+    # Everything is boxed here (ng ≫ target 2): one G-row and one A-row radius, bound 1.
+    assert R.ng == 2 and np.all(R.h == 1.0)
+    assert Fraction(np.abs(R.G).max()) * Fraction(R.h[0]) >= exact_g
+    assert Fraction(np.abs(R.A).max()) >= exact_a
+
+
+def test_interval_hull_of_an_unconstrained_cz_with_non_unit_bounds_is_rigorous():
+    h = np.array([0.1 * (1 + j / 7) for j in range(25)])
+    Z = ss.ConstrainedZonotope(np.full((1, 25), 0.3), [0.0], h=h)
+    box = ss.reduce(Z, ss.IntervalHull())
+    assert Fraction(box.hi[0]) >= sum(Fraction(0.3) * Fraction(x) for x in h)
+
+
 # --------------------------------------------------------------------------------------------------
 # Counts after reduction
 # --------------------------------------------------------------------------------------------------
@@ -245,12 +302,85 @@ def test_cora_pipeline_keeps_one_constraint_and_dof_order_one():
     rng = np.random.default_rng(5)
     n, ng, nc = 4, 20, 8
     A = rng.standard_normal((nc, ng))
-    Z = ss.ConstrainedZonotope(rng.standard_normal((n, ng)), np.zeros(n), A=A, b=A @ rng.uniform(-0.5, 0.5, ng))
+    Z = ss.ConstrainedZonotope(rng.standard_normal((n, ng)), np.zeros(n), A=A,
+                               b=A @ rng.uniform(-0.5, 0.5, ng))
     for pipeline in (ss.CORA_GIRARD, ss.CORA_COMBASTEL):
         R = ss.reduce(Z, pipeline)
         assert R.nc <= 1 and R.ng - R.nc <= n
     assert ss.CORA_GIRARD == (ss.Rescale("iter"), ss.EliminateConstraints(1), ss.Girard(1))
     assert ss.CORA_COMBASTEL == (ss.Rescale("iter"), ss.EliminateConstraints(1), ss.Combastel(1))
+
+
+def test_cora_pipeline_propagates_once_per_elimination_step(monkeypatch):
+    # Rescale('iter') right before EliminateConstraints would repeat the elimination's first
+    # propagation on the same data; the pipeline runs it once per step, and keeps the set of the
+    # pipeline applied method by method (both contain Z; supports agree to rounding).
+    import setsmooth.sets.reduction.constraints as constraints
+    import setsmooth.sets.reduction.rescale as rescale
+    calls = []
+
+    def counting(A, b, h):
+        calls.append(A.shape)
+        return propagate(A, b, h)
+    monkeypatch.setattr(constraints, "propagate", counting)
+    monkeypatch.setattr(rescale, "propagate", counting)
+    rng = np.random.default_rng(8)
+    n, ng, nc = 3, 12, 4
+    A = rng.standard_normal((nc, ng))
+    Z = ss.ConstrainedZonotope(rng.standard_normal((n, ng)), np.zeros(n), A=A,
+                               b=A @ rng.uniform(-0.5, 0.5, ng))
+    R = ss.reduce(Z, ss.CORA_GIRARD)
+    piped = len(calls)
+    calls.clear()
+    R_alone = ss.reduce(Z, (ss.EliminateConstraints(1), ss.Girard(1)))
+    assert piped == len(calls) == nc  # one per step: nc → 1, plus the step that stops at 1
+    calls.clear()
+    stepwise = Z
+    for method in ss.CORA_GIRARD:
+        stepwise = ss.reduce(stepwise, method)
+    assert len(calls) == nc + 1  # the repeated propagation the pipeline avoids
+    D = _random_directions(rng, n, 100)
+    hz, hr, ha = Z.support_many(D), R.support_many(D), R_alone.support_many(D)
+    scale = support_scale(hz, hr)
+    assert np.all(hr >= hz - 1e-7 * scale)
+    np.testing.assert_allclose(hr, ha, rtol=1e-9, atol=1e-9 * scale)
+
+
+def test_eliminating_through_a_row_cancels_a_dependent_row_to_nothing():
+    # Row 1 = 0.1·row 0 (the data of a set-algebra chain can carry such pairs): substituting factor
+    # 2 through row 0 cancels row 1 to rounding noise (~1e-17), which interval propagation would take
+    # literally after normalizing the row. It is dropped, not kept as a bogus constraint.
+    from setsmooth.sets.reduction._base import CZData
+    from setsmooth.sets.reduction.constraints import eliminate_factor
+    r0 = np.array([0.7, 0.1, 0.3, 0.9])
+    A = np.vstack([r0, 0.1 * r0])
+    xi = np.array([0.2, -0.4, 0.1, 0.3])
+    Z = ss.ConstrainedZonotope(np.array([[1.0, 0.3, 0.2, 0.0], [0.0, 1.0, -0.5, 0.4]]), np.zeros(2),
+                               A=A, b=A @ xi)
+    out = eliminate_factor(CZData.of(Z), 2)
+    assert out.nc == 0 and out.ng == 3
+    R = out.to_set()
+    D = _random_directions(np.random.default_rng(0), 2, 50)
+    assert np.all(R.support_many(D) >= Z.support_many(D) - 1e-9)
+
+
+def test_elimination_does_not_call_a_set_empty_when_the_solver_cannot_settle_it(monkeypatch):
+    # Propagation finds point-like data a hair infeasible; if the emptiness program then cannot be
+    # settled, the set is not declared empty (the result must still contain it).
+    import setsmooth.sets.reduction.constraints as constraints
+    from setsmooth.sets.reduction.rescale import FactorBounds
+
+    def crossed(A, b, h):
+        fb = propagate(A, b, h)
+        return FactorBounds(fb.lo, fb.hi, fb.Rlo, fb.Rhi, True)
+
+    def unsettled(self):
+        raise ss.SolverError("AlmostPrimalInfeasible", "test")
+    monkeypatch.setattr(constraints, "propagate", crossed)
+    monkeypatch.setattr(ss.ConstrainedZonotope, "is_empty", unsettled)
+    Z = ss.ConstrainedZonotope(np.eye(3), np.zeros(3), A=[[1.0, 1.0, 0.0], [0.0, 1.0, 1.0]], b=[0.5, 0.2])
+    R = ss.reduce(Z, ss.EliminateConstraints(1))
+    assert isinstance(R, ss.ConstrainedZonotope)
 
 
 # --------------------------------------------------------------------------------------------------
@@ -335,8 +465,14 @@ def test_bad_arguments_are_refused_at_the_door():
         ss.Rescale("fast")
     with pytest.raises(ValueError, match="max_constraints"):
         ss.EliminateConstraints(-1)
-    with pytest.raises(ValueError, match="max_constraints"):
+    with pytest.raises(TypeError, match="max_constraints"):
         ss.EliminateConstraints(1.5)
+    with pytest.raises(TypeError, match="max_constraints"):
+        ss.EliminateConstraints(True)
+    with pytest.raises(TypeError, match="order"):
+        ss.Girard(True)
+    with pytest.raises(TypeError, match="order"):
+        ss.Combastel("1")
     with pytest.raises(TypeError, match="method_or_methods"):
         ss.reduce(Z, "girard")
     with pytest.raises(TypeError, match="method_or_methods"):

@@ -10,10 +10,15 @@ method falls back to another. The empty set is returned unchanged; a method that
 returns `EmptySet`. Free factors (h = ∞) are handled exactly or refused with a `ValueError`; no finite
 bound is ever invented for them.
 
-Floating point: every computed *bound* (propagated factor ranges, box radii, interval hulls) is rounded
-outward with a rigorous rounding-error bound, so outer approximations stay outer. The affine
-re-parametrizations (re-centring in rescaling, the substitution (27)/(29) of an eliminated factor,
-merging) are exact in exact arithmetic and move the set by a few units of roundoff of its data.
+Floating point: every computed *bound* (propagated factor ranges, the factor radii of rescaling, box
+radii of `Girard`/`Combastel`, interval hulls) is rounded outward with a rigorous rounding-error bound
+(γ_k of Higham), and merged bounds are rounded up, so those steps lose nothing in floating point. The
+affine re-parametrizations are not: the re-centring c + G m, b − A m of rescaling (`rescale_data`)
+and the substitution (27)/(29) of an eliminated factor (`eliminate_factor`) are rounded to nearest,
+so their result is the intended set only up to the roundoff of those operations on the data (a CZ's
+equality constraints cannot carry a rounding margin). "Outer" is therefore rigorous in floating point
+for `Girard`, `Combastel` and `IntervalHull` with respect to the data they receive, and holds up to
+that roundoff for `EliminateConstraints` and the pipelines.
 
 `CORA_GIRARD` and `CORA_COMBASTEL` are the pipelines of CORA's reduced constrained-zonotope observer,
 the baselines of the stability paper's Table 1: ``rescale(·, 'iter')`` → ``reduceConstraints(·, 1)`` →
@@ -30,17 +35,22 @@ zonotopes", ECC 2003.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Union
 
 from ..base import ConvexSet
 from ._base import ReductionMethod
 from .constraints import EliminateConstraints
 from .exact import DropDependentConstraints, DropZeros, MergeParallelGenerators
 from .generators import Combastel, Girard, IntervalHull
-from .rescale import Rescale
+from .rescale import FactorBounds, Rescale, propagate, rescale_data
 
 __all__ = ["reduce", "ReductionMethod", "DropZeros", "DropDependentConstraints",
            "MergeParallelGenerators", "Rescale", "EliminateConstraints", "Girard", "Combastel",
-           "IntervalHull", "CORA_GIRARD", "CORA_COMBASTEL", "as_methods", "apply_methods"]
+           "IntervalHull", "CORA_GIRARD", "CORA_COMBASTEL", "as_methods", "apply_methods",
+           "MethodOrMethods", "FactorBounds", "propagate", "rescale_data"]
+
+#: One reduction method or a non-empty sequence of them, applied in order.
+MethodOrMethods = Union[ReductionMethod, Sequence[ReductionMethod]]
 
 #: CORA's reduced CZ observer with Girard's method (stability paper Table 1).
 CORA_GIRARD = (Rescale("iter"), EliminateConstraints(1), Girard(1))
@@ -49,8 +59,36 @@ CORA_GIRARD = (Rescale("iter"), EliminateConstraints(1), Girard(1))
 CORA_COMBASTEL = (Rescale("iter"), EliminateConstraints(1), Combastel(1))
 
 
-def as_methods(method_or_methods, name: str = "method") -> tuple[ReductionMethod, ...]:
-    """Validate one method or a sequence of methods; return them as a tuple."""
+def as_methods(method_or_methods: MethodOrMethods, name: str = "method") -> tuple[ReductionMethod, ...]:
+    """Validate one method or a sequence of methods; return them as a tuple.
+
+    Parameters
+    ----------
+    method_or_methods : ReductionMethod or sequence of ReductionMethod
+        What the user passed.
+    name : str
+        The argument's name in the user's call, used in the error message (e.g. ``"reduce"``).
+
+    Returns
+    -------
+    tuple of ReductionMethod
+        The methods, in order.
+
+    Raises
+    ------
+    TypeError
+        If ``method_or_methods`` is neither a `ReductionMethod` nor a non-empty sequence of them (a
+        string is refused).
+
+    Examples
+    --------
+    >>> import setsmooth as ss
+    >>> from setsmooth.sets.reduction import as_methods
+    >>> as_methods(ss.Girard(1))
+    (Girard(order=1),)
+    >>> len(as_methods(ss.CORA_GIRARD))
+    3
+    """
     if isinstance(method_or_methods, ReductionMethod):
         return (method_or_methods,)
     if isinstance(method_or_methods, Sequence) and not isinstance(method_or_methods, str):
@@ -64,7 +102,7 @@ def as_methods(method_or_methods, name: str = "method") -> tuple[ReductionMethod
                     f"got {method_or_methods!r}")
 
 
-def reduce(S: ConvexSet, method_or_methods) -> ConvexSet:
+def reduce(S: ConvexSet, method_or_methods: MethodOrMethods) -> ConvexSet:
     """Apply one reduction method, or a sequence of them in order, to a set.
 
     Parameters
@@ -72,8 +110,10 @@ def reduce(S: ConvexSet, method_or_methods) -> ConvexSet:
     S : ConvexSet
         A `Zonotope`, `ConstrainedZonotope`, `Box` or `EmptySet`.
     method_or_methods : ReductionMethod or sequence of ReductionMethod
-        E.g. ``ss.Girard(1)``, ``(ss.Rescale('iter'), ss.EliminateConstraints(1), ss.Girard(1))``,
-        ``ss.CORA_GIRARD``.
+        One method, or a non-empty sequence applied in order, e.g. ``ss.Girard(1)``,
+        ``(ss.Rescale('iter'), ss.EliminateConstraints(1), ss.Girard(1))``, ``ss.CORA_GIRARD``. A
+        ``Rescale('iter')`` right before an `EliminateConstraints` is skipped (that method begins
+        with the same propagation and rescaling; see `apply_methods`).
 
     Returns
     -------
@@ -103,7 +143,45 @@ def reduce(S: ConvexSet, method_or_methods) -> ConvexSet:
 
 
 def apply_methods(S: ConvexSet, methods: tuple[ReductionMethod, ...]) -> ConvexSet:
-    """`reduce` with trusted arguments (validated by the caller, e.g. once before a filter's loop)."""
-    for method in methods:
+    """`reduce` with trusted arguments (validated by the caller, e.g. once before a filter's loop).
+
+    A ``Rescale('iter')`` immediately followed by `EliminateConstraints` is skipped: every step of
+    the elimination begins with the same propagation and rescaling (Scott et al. 2016 §4.1) on the
+    same data, so running it twice would only repeat the Gauss–Jordan sweep. The result is the same
+    set as with the Rescale applied (both are exact re-parametrizations).
+
+    Parameters
+    ----------
+    S : ConvexSet
+        A `Zonotope`, `ConstrainedZonotope`, `Box` or `EmptySet`.
+    methods : tuple of ReductionMethod
+        As returned by `as_methods`.
+
+    Returns
+    -------
+    ConvexSet
+        As `reduce`.
+
+    Raises
+    ------
+    NotImplementedError
+        If a method has no implementation for the type of set it receives.
+
+    Examples
+    --------
+    >>> import numpy as np, setsmooth as ss
+    >>> from setsmooth.sets.reduction import apply_methods
+    >>> Z = ss.ConstrainedZonotope(np.eye(2), np.zeros(2), A=[[1.0, 1.0]], b=[0.5])
+    >>> apply_methods(Z, ss.CORA_COMBASTEL).nc <= 1
+    True
+    """
+    for i, method in enumerate(methods):
+        if _repeated_by_next(method, methods[i + 1:i + 2]):
+            continue
         S = method.apply(S)
     return S
+
+
+def _repeated_by_next(method: ReductionMethod, following: tuple[ReductionMethod, ...]) -> bool:
+    return (isinstance(method, Rescale) and method.method == "iter" and len(following) == 1
+            and isinstance(following[0], EliminateConstraints))

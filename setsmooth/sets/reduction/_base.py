@@ -119,4 +119,23 @@ def abs_sum_upper(M: np.ndarray, axis: int = 1) -> np.ndarray:
     """An upper bound, rigorous in floating point, on Σ|M_ij| along ``axis`` (γ_k of the k terms)."""
     k = M.shape[axis]
     s = np.abs(M).sum(axis=axis)
-    return round_up(s * (1.0 + 2.0 * tol.gamma(k + 1)))
+    # An exactly zero sum (every term zero) stays zero: no rounding happened.
+    return np.where(s == 0.0, 0.0, round_up(s * (1.0 + 2.0 * tol.gamma(k + 1))))
+
+
+def scaled_abs_upper(M: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """|M_ij|·h_j rounded up, entry by entry (exact where h_j = 1 or the product is 0; 0·∞ = 0)."""
+    with np.errstate(invalid="ignore"):
+        P = np.abs(M) * h
+    P = np.where(M == 0.0, 0.0, P)  # a free factor (h = ∞) the row does not see
+    return np.where((h == 1.0) | (P == 0.0), P, round_up(P))
+
+
+def certified_margin(terms: int, scale) -> np.ndarray:
+    """Widening of a certified (weak-duality) support value for its own floating-point evaluation.
+
+    The certificate is a dot product of ``terms`` terms of magnitude ``scale`` at most (data and dual
+    values); 8·γ_terms·scale bounds its rounding with a margin for the products forming the terms.
+    Used by `Rescale('exact')` and `IntervalHull`.
+    """
+    return 8.0 * tol.gamma(terms) * np.asarray(scale, dtype=float)

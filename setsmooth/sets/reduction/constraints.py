@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ... import tolerances as tol
 from ..box import Box
 from ..constrained_zonotope import ConstrainedZonotope
 from ..empty import EmptySet
@@ -29,15 +30,49 @@ from ._base import CZData, ReductionMethod
 from .exact import DropDependentConstraints, DropZeros
 from .rescale import propagate, rescale_data
 from ...linalg import independent_rows
+from ...solvers import SolverError
 
 __all__ = ["EliminateConstraints", "eliminate_factor"]
 
 
 def eliminate_factor(d: CZData, j: int) -> CZData:
-    """Scott (27)/(29): drop the bound of factor j and eliminate it through a row where it appears.
+    """Scott et al. 2016 (27)/(29): drop the bound of factor j and eliminate it through a row where it
+    appears.
 
     The row is the one where |a_ij| is largest relative to the row's size: any row gives the same set
     in exact arithmetic (CORA takes the first), this one is the best-conditioned pivot.
+
+    Parameters
+    ----------
+    d : CZData
+        The data Z(G, c, A, b, h), dense.
+    j : int
+        The factor to eliminate; column j of A must be non-zero.
+
+    Returns
+    -------
+    CZData
+        One factor and one constraint fewer: Z(G − Λ_G A, c + Λ_G b, A − Λ_A A, b − Λ_A b) with row i
+        and column j removed (and any row that cancels to 0 = 0, i.e. was dependent on row i). It
+        contains Z (exactly Z when the bound |ξ_j| ≤ h_j is implied).
+
+    Notes
+    -----
+    Floating point: the substitution is evaluated rounded to nearest. The result is the set of the
+    substituted data in exact arithmetic, so in floating point it contains Z only up to the roundoff
+    of the rank-one updates: within γ_3·(|G_kl| + |g_kj||a_il/a_ij|) per entry of G and A, and alike
+    for c and b; entries of A and b within twice that bound are set to zero (cancellation noise of a
+    dependent row) (a rigorous margin would be an error in an equality constraint, which a CZ cannot
+    hold). The final box of `Girard`/`Combastel`/`IntervalHull` is rigorous for the data it receives.
+
+    Examples
+    --------
+    >>> import numpy as np, setsmooth as ss
+    >>> from setsmooth.sets.reduction._base import CZData
+    >>> Z = ss.ConstrainedZonotope(np.eye(2), np.zeros(2), A=[[1.0, 1.0]], b=[0.0], h=[1.0, np.inf])
+    >>> out = eliminate_factor(CZData.of(Z), 1)
+    >>> out.to_set(), out.G.tolist(), out.c.tolist()
+    (ConstrainedZonotope(dim=2, ng=1, nc=0), [[1.0], [-1.0]], [0.0, 0.0])
     """
     col = d.A[:, j]
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -47,9 +82,18 @@ def eliminate_factor(d: CZData, j: int) -> CZData:
     row_A, row_b = d.A[i] / a, d.b[i] / a
     G = d.G - np.outer(d.G[:, j], row_A)
     c = d.c + d.G[:, j] * row_b
-    A = d.A - np.outer(col, row_A)
-    b = d.b - col * row_b
+    update_A, update_b = np.outer(col, row_A), col * row_b
+    A = d.A - update_A
+    b = d.b - update_b
+    # A row dependent on row i cancels to rounding noise (~1e-16 entries), which propagation would
+    # take literally once the row is normalized: an entry within the rounding bound of its own
+    # computation (γ_3: the division, the product, the subtraction) is zero up to roundoff.
+    g = 2.0 * tol.gamma(3)
+    A[np.abs(A) <= g * (np.abs(d.A) + np.abs(update_A))] = 0.0
+    b[np.abs(b) <= g * (np.abs(d.b) + np.abs(update_b))] = 0.0
     keep_rows = np.arange(d.nc) != i
+    # A row that cancelled completely (0 = 0) is dropped with row i.
+    keep_rows &= np.any(A != 0.0, axis=1) | (b != 0.0)
     keep_cols = np.arange(d.ng) != j
     return CZData(G[:, keep_cols], c, A[np.ix_(keep_rows, keep_cols)], b[keep_rows], d.h[keep_cols],
                   d.sparse)
@@ -86,6 +130,21 @@ class EliminateConstraints(ReductionMethod):
     max_constraints : int
         The largest number of constraints the result may keep (≥ 0).
 
+    Raises
+    ------
+    TypeError
+        If ``max_constraints`` is not an integer (a bool or a float is refused).
+    ValueError
+        If ``max_constraints`` < 0.
+
+    Notes
+    -----
+    Each step begins with the propagation and rescaling of `Rescale('iter')`, so a ``Rescale('iter')``
+    placed right before this method in a sequence (as in `CORA_GIRARD`) would repeat it:
+    `apply_methods` skips that Rescale (the result is the same set).
+    Floating point: the bounds are rigorous; the substitutions are exact up to the roundoff of the
+    data (see `eliminate_factor`).
+
     Examples
     --------
     >>> import numpy as np, setsmooth as ss
@@ -98,7 +157,10 @@ class EliminateConstraints(ReductionMethod):
 
     def __post_init__(self):
         k = self.max_constraints
-        if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 0:
+        if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
+            raise TypeError(f"max_constraints must be an integer ≥ 0, got {k!r} "
+                            f"({type(k).__name__})")
+        if k < 0:
             raise ValueError(f"max_constraints must be an integer ≥ 0, got {k!r}")
 
     def _on_zonotope(self, Z: Zonotope) -> Zonotope:
@@ -146,8 +208,8 @@ def _rescaled(d: CZData):
     never claimed wrongly), which makes eliminating j exact. ``r[j] = max(0, max|R_j| − 1)`` in the
     rescaled coordinates, the measure of the heuristic (A.8); ∞ for a free factor.
     """
-    lo, hi, Rlo, Rhi, crossed = propagate(d.A, d.b, d.h)
-    if crossed and d.to_set().is_empty():
+    lo, hi, Rlo, Rhi, crossed = propagate(d.A, d.b, d.h)  # FactorBounds
+    if crossed and _proven_empty(d):
         return None
     out = rescale_data(d, lo, hi)
     bounded = np.isfinite(lo) & np.isfinite(hi)
@@ -161,7 +223,23 @@ def _rescaled(d: CZData):
         return out, r, inside  # columns scaled by r > 0: the rank is unchanged
     # A factor pinned to a point has a zero column now, which can leave rows dependent; the
     # heuristic's KKT matrix needs A of full row rank. Dropping a dependent row loses nothing.
+    # A dependent row that disagrees is roundoff of the re-centring b − A m (a pinned factor leaves a
+    # point-like set, where that roundoff is all there is): emptiness is judged on the data before
+    # rescaling, which the rescaled data re-parametrize.
     basis = independent_rows(out.A, out.b)
-    if not basis.consistent and out.to_set().is_empty():
+    if not basis.consistent and _proven_empty(d):
         return None
     return out.keep_rows(basis.keep), r, inside
+
+
+def _proven_empty(d: CZData) -> bool:
+    """`is_empty` of the data, False when the solver cannot settle it (`SolverError`).
+
+    Called only where propagation found the data a hair infeasible, which happens for point-like
+    sets (extreme noise realizations) whose emptiness program is degenerate. Not declaring the set
+    empty keeps a superset: the caller goes on as for a set `is_empty` calls non-empty.
+    """
+    try:
+        return d.to_set().is_empty()
+    except SolverError:
+        return False

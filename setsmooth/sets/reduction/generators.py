@@ -23,35 +23,43 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ... import tolerances as tol
 from ..box import Box
 from ..constrained_zonotope import ConstrainedZonotope
 from ..empty import EmptySet
 from ..zonotope import Zonotope
-from ._base import CZData, ReductionMethod, abs_sum_upper, round_down, round_up
+from ._base import (CZData, ReductionMethod, abs_sum_upper, certified_margin, round_down, round_up,
+                    scaled_abs_upper)
 
 __all__ = ["Girard", "Combastel", "IntervalHull"]
 
 
 def _check_order(order) -> None:
-    if isinstance(order, bool) or not isinstance(order, (int, float, np.integer, np.floating)) \
-            or not np.isfinite(order) or order < 1:
+    if isinstance(order, bool) or not isinstance(order, (int, float, np.integer, np.floating)):
+        raise TypeError(f"order must be a finite number ≥ 1, got {order!r} ({type(order).__name__})")
+    if not np.isfinite(order) or order < 1:
         raise ValueError(f"order must be a finite number ≥ 1, got {order!r}")
 
 
-def _box_reduce(L: np.ndarray, target: int, scores: np.ndarray) -> np.ndarray:
-    """Keep the target − d best columns of L (d × k) and box the rest; ``target`` ≥ d columns result."""
+def _box_reduce(L: np.ndarray, h: np.ndarray, target: int,
+                scores: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Keep the target − d best columns of L (d × k, bounds h) and box the rest.
+
+    Returns the columns and their bounds, ``target`` columns at most: the kept columns unchanged with
+    their bounds (no rounding), then diag(Σ h_j |L_j|) over the boxed ones with bound 1, each radius
+    rounded up (`scaled_abs_upper`, `abs_sum_upper`), so the box contains the boxed part in floating
+    point too; zero rows of the box are dropped.
+    """
     d, k = L.shape
     if k <= target:
-        return L
+        return L, h
     keep_count = target - d
     order = np.argsort(-scores, kind="stable")
-    keep, rest = order[:keep_count], order[keep_count:]
-    radius = abs_sum_upper(L[:, rest])
+    keep, rest = np.sort(order[:keep_count]), order[keep_count:]
+    radius = abs_sum_upper(scaled_abs_upper(L[:, rest], h[rest]))
     nz = np.flatnonzero(radius > 0.0)
     box = np.zeros((d, nz.size))
     box[nz, np.arange(nz.size)] = radius[nz]
-    return np.hstack([L[:, np.sort(keep)], box])
+    return np.hstack([L[:, keep], box]), np.concatenate([h[keep], np.ones(nz.size)])
 
 
 @dataclass(frozen=True)
@@ -68,7 +76,8 @@ class _GeneratorReduction(ReductionMethod):
         target = math.floor(self.order * Z.dim)
         if Z.ng <= target:
             return Z
-        return Zonotope._trusted(_box_reduce(Z.G, target, self._scores(Z.G)), Z.c)
+        G, _ = _box_reduce(Z.G, np.ones(Z.ng), target, self._scores(Z.G))
+        return Zonotope._trusted(G, Z.c)
 
     def _on_constrained_zonotope(self, Z: ConstrainedZonotope):
         d = CZData.of(Z)
@@ -86,12 +95,13 @@ class _GeneratorReduction(ReductionMethod):
                 "the box of the bounded part alone needs n + nc generators (eliminate the free factors "
                 "first, e.g. EliminateConstraints)")
         fin = np.flatnonzero(~free)
-        # Lifted zonotope of the bounded factors, scaled to unit bounds (exact).
-        L = np.vstack([d.G[:, fin], d.A[:, fin]]) * d.h[fin]
-        R = _box_reduce(L, bounded_target, self._scores(L))
+        # Lifted zonotope of the bounded factors; scores on the columns scaled to unit bounds (their
+        # rounding only affects the choice), the kept columns keep their own bounds (no rounding).
+        L = np.vstack([d.G[:, fin], d.A[:, fin]])
+        R, hR = _box_reduce(L, d.h[fin], bounded_target, self._scores(L * d.h[fin]))
         G = np.hstack([R[:d.n], d.G[:, free]])
         A = np.hstack([R[d.n:], d.A[:, free]])
-        h = np.concatenate([np.ones(R.shape[1]), d.h[free]])
+        h = np.concatenate([hR, d.h[free]])
         return CZData(G, d.c, A, d.b, h, d.sparse).to_set()
 
     def _on_box(self, B: Box) -> Box:
@@ -107,6 +117,14 @@ class Girard(_GeneratorReduction):
     order : float
         Target order (≥ 1): ng ≤ ⌊order·n⌋ for a zonotope; (ng − nc) ≤ order·n, degrees of freedom,
         for a constrained zonotope (through the lifted zonotope, Scott et al. 2016 §4.3).
+
+    Raises
+    ------
+    TypeError
+        If ``order`` is not a number (a bool is refused).
+    ValueError
+        If ``order`` is not finite or < 1; when applied, if a CZ's free factors (h = ∞) leave too few
+        generators for the box of the bounded part.
 
     Examples
     --------
@@ -128,6 +146,20 @@ class Combastel(_GeneratorReduction):
     ----------
     order : float
         Target order (≥ 1), counted as in `Girard`.
+
+    Raises
+    ------
+    TypeError
+        If ``order`` is not a number (a bool is refused).
+    ValueError
+        If ``order`` is not finite or < 1; when applied, as `Girard`.
+
+    Examples
+    --------
+    >>> import numpy as np, setsmooth as ss
+    >>> Z = ss.Zonotope(np.random.default_rng(0).standard_normal((2, 6)), np.zeros(2))
+    >>> ss.reduce(Z, ss.Combastel(2)).ng
+    4
     """
 
     def _scores(self, L: np.ndarray) -> np.ndarray:
@@ -152,15 +184,14 @@ class IntervalHull(ReductionMethod):
     def _on_constrained_zonotope(self, Z: ConstrainedZonotope):
         d = CZData.of(Z)
         if d.nc == 0:
-            with np.errstate(invalid="ignore"):  # 0·∞ = 0: a free factor the coordinate does not see
-                scaled = np.where(d.G == 0.0, 0.0, d.G * d.h)
-            return _box(d.c, abs_sum_upper(scaled))
+            return _box(d.c, abs_sum_upper(scaled_abs_upper(d.G, d.h)))
         hull = Z.interval_hull(certified=True)
         if isinstance(hull, EmptySet):
             return hull
         scale = 1.0 + np.abs(d.c) + np.abs(d.G) @ np.where(np.isfinite(d.h), d.h, 0.0) \
             + np.abs(d.b).max(initial=0.0)
-        margin = 8.0 * tol.gamma(d.ng + d.nc + d.n + 2) * (scale + np.maximum(np.abs(hull.lo), np.abs(hull.hi)))
+        margin = certified_margin(d.ng + d.nc + d.n + 2,
+                                  scale + np.maximum(np.abs(hull.lo), np.abs(hull.hi)))
         with np.errstate(invalid="ignore"):
             lo = round_down(hull.lo - margin)
             hi = round_up(hull.hi + margin)

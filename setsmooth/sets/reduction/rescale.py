@@ -30,6 +30,7 @@ become bounded factors of the same set.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -39,9 +40,9 @@ from ..constrained_zonotope import ConstrainedZonotope
 from ..empty import EmptySet
 from ..zonotope import Zonotope
 from ...solvers import SolverError
-from ._base import CZData, ReductionMethod, round_down, round_up
+from ._base import CZData, ReductionMethod, certified_margin, round_down, round_up
 
-__all__ = ["Rescale", "propagate", "rescale_data"]
+__all__ = ["Rescale", "FactorBounds", "propagate", "rescale_data"]
 
 
 def gauss_jordan(A: np.ndarray) -> np.ndarray:
@@ -76,21 +77,59 @@ def gauss_jordan(A: np.ndarray) -> np.ndarray:
     return P / norms[:, None]
 
 
-def propagate(A: np.ndarray, b: np.ndarray, h: np.ndarray):
-    """One sweep of preconditioned interval propagation through Aξ = b, |ξ| ≤ h.
+class FactorBounds(NamedTuple):
+    """Factor ranges found by `propagate` (or by LPs in `Rescale('exact')`).
+
+    Attributes
+    ----------
+    lo, hi : ndarray, shape (ng,)
+        E = [lo, hi] ⊇ the range of every feasible ξ_j (⊆ [−h_j, h_j]).
+    Rlo, Rhi : ndarray, shape (ng,) or None
+        R = [Rlo, Rhi] ⊇ the range the rows imply for ξ_j from the other factors' boxes, before the
+        intersection with its own bound (Scott et al. 2016 §4.2); None when not computed (LP bounds).
+    crossed : bool
+        Some E_j came out empty, which proves the stored data infeasible; the crossed bounds are
+        then returned swapped (the caller settles emptiness with `is_empty`).
+    """
+
+    lo: np.ndarray
+    hi: np.ndarray
+    Rlo: np.ndarray | None
+    Rhi: np.ndarray | None
+    crossed: bool
+
+
+def propagate(A: np.ndarray, b: np.ndarray, h: np.ndarray) -> FactorBounds:
+    """One sweep of preconditioned interval propagation through Aξ = b, |ξ| ≤ h (Scott et al. 2016 §4.1).
+
+    Parameters
+    ----------
+    A : ndarray, shape (nc, ng)
+        Dense constraint matrix.
+    b : ndarray, shape (nc,)
+        Right-hand side.
+    h : ndarray, shape (ng,)
+        Factor bounds, ``inf`` for a free factor.
 
     Returns
     -------
-    (lo, hi, Rlo, Rhi, crossed)
-        E = [lo, hi] ⊇ the range of every feasible ξ_j; R = [Rlo, Rhi] ⊇ the range ξ_j can take when
-        its own bound is dropped (Scott §4.2). ``crossed``: some E_j came out empty, which proves the
-        stored data infeasible; the crossed bounds are then returned swapped (see `settle_empty`).
+    FactorBounds
+        E = [lo, hi] and R = [Rlo, Rhi], rigorous in floating point for the data as stored (every
+        interval operation rounded outward, the preconditioned rows carried as interval equations).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from setsmooth.sets.reduction import propagate
+    >>> fb = propagate(np.array([[1.0, 1.0]]), np.array([1.5]), np.ones(2))
+    >>> bool(fb.lo[0] <= 0.5 <= fb.lo[0] + 1e-12), bool(fb.Rhi[0] >= 2.5), fb.crossed
+    (True, True, False)
     """
     nc, ng = A.shape
     lo, hi = -h.astype(float), h.astype(float)
     Rlo, Rhi = np.full(ng, -np.inf), np.full(ng, np.inf)
     if nc == 0:
-        return lo, hi, Rlo, Rhi, False
+        return FactorBounds(lo, hi, Rlo, Rhi, False)
     P = gauss_jordan(A)
     Ap, bp = P @ A, P @ b
     # fl(P·A) = P·A + E with |E| ≤ γ_nc |P||A| (and alike for b): each row is an interval equation
@@ -120,7 +159,7 @@ def propagate(A: np.ndarray, b: np.ndarray, h: np.ndarray):
                 empty_here = True
                 nlo[crossed], nhi[crossed] = nhi[crossed], nlo[crossed]
             lo[cols], hi[cols] = nlo, nhi
-    return lo, hi, Rlo, Rhi, empty_here
+    return FactorBounds(lo, hi, Rlo, Rhi, empty_here)
 
 
 def _row(alo, ahi, xlo, xhi, beta, dbeta):
@@ -164,7 +203,31 @@ def _others_with_infinities(tlo: np.ndarray, thi: np.ndarray):
 
 
 def rescale_data(d: CZData, lo: np.ndarray, hi: np.ndarray) -> CZData:
-    """Z(G diag(r), c + G m, A diag(r), b − A m, 1) for factor boxes [lo, hi] (free where unbounded)."""
+    """Z(G diag(r), c + G m, A diag(r), b − A m, 1) for factor boxes [lo, hi] (free where unbounded).
+
+    Parameters
+    ----------
+    d : CZData
+        The data Z(G, c, A, b, h).
+    lo, hi : ndarray, shape (ng,)
+        A box containing every feasible factor vector (e.g. `propagate`'s E); infinite entries leave
+        the factor free (m_j = 0, r_j = 1, h_j = ∞).
+
+    Returns
+    -------
+    CZData
+        The rescaled data, bounds 1 (∞ for free factors).
+
+    Notes
+    -----
+    Floating point: r is rounded up so that [m − r, m + r] ⊇ [lo, hi] exactly, so no feasible factor
+    is lost. The products G diag(r), A diag(r) and the re-centred data c + G m, b − A m are rounded to
+    nearest: the result is the set of the data up to roundoff of those operations, i.e. within
+    γ_{ng+1}·(|c| + |G||m|) of each centre coordinate and γ_{ng+1}·(|b| + |A||m|) of each right-hand
+    side (Higham's bound), not a rigorous superset. Rounding margins here would be errors in an equality
+    constraint, which a CZ cannot hold; the outer methods that end in a box (`Girard`, `Combastel`,
+    `IntervalHull`) are rigorous for the data they receive.
+    """
     bounded = np.isfinite(lo) & np.isfinite(hi)
     point = bounded & (lo == hi)
     with np.errstate(invalid="ignore"):  # ∞ − ∞ on free factors, masked by `bounded`
@@ -187,9 +250,15 @@ class Rescale(ReductionMethod):
         of [A b] (CORA's ``rescale(·, 'iter')``); 'exact': the tightest factor box, 2·ng certified
         LPs on the fast path.
 
+    Raises
+    ------
+    ValueError
+        If ``method`` is not 'iter' or 'exact'.
+
     Notes
     -----
-    The set is unchanged; a factor whose propagated range is unbounded keeps its bound (a free factor
+    The set is unchanged (up to the roundoff of the re-centring, see `rescale_data`); a factor whose
+    propagated range is unbounded keeps its bound (a free factor
     stays free). An empty propagated range gives `EmptySet` when `is_empty` agrees (see the module notes).
 
     Examples
@@ -219,12 +288,12 @@ class Rescale(ReductionMethod):
             return Z
         d = CZData.of(Z)
         bounds = propagate(d.A, d.b, d.h) if self.method == "iter" else _exact_bounds(Z, d)
-        if bounds[4] and Z.is_empty():
+        if bounds.crossed and Z.is_empty():
             return EmptySet(Z.dim)
-        return rescale_data(d, bounds[0], bounds[1]).to_set()
+        return rescale_data(d, bounds.lo, bounds.hi).to_set()
 
 
-def _exact_bounds(Z: ConstrainedZonotope, d: CZData):
+def _exact_bounds(Z: ConstrainedZonotope, d: CZData) -> FactorBounds:
     """The factor box by certified LPs: the interval hull of Z(I, 0, A, b, h), rounded outward.
 
     A factor whose LP the solver cannot settle (`SolverError`) keeps its interval-propagation bound,
@@ -238,16 +307,16 @@ def _exact_bounds(Z: ConstrainedZonotope, d: CZData):
         values = _one_by_one(factors, np.vstack([eye, -eye]))
     iter_lo, iter_hi, _, _, crossed = propagate(d.A, d.b, d.h)
     if np.isneginf(values).any():
-        return iter_lo, iter_hi, None, None, True
+        return FactorBounds(iter_lo, iter_hi, None, None, True)
     hi, lo = values[:Z.ng], -values[Z.ng:]
     # The weak-duality bound is itself evaluated in floating point: widen by its rounding bound.
     scale = 1.0 + np.abs(Z.b).max(initial=0.0) + np.max(Z.h[np.isfinite(Z.h)], initial=0.0)
-    margin = 8.0 * tol.gamma(Z.ng + Z.nc + 2) * scale
+    margin = certified_margin(Z.ng + Z.nc + 2, scale)
     with np.errstate(invalid="ignore"):
         lo = np.where(np.isnan(lo), iter_lo, np.maximum(iter_lo, round_down(lo - margin)))
         hi = np.where(np.isnan(hi), iter_hi, np.minimum(iter_hi, round_up(hi + margin)))
     crossed = crossed or bool(np.any(lo > hi))
-    return np.minimum(lo, hi), np.maximum(lo, hi), None, None, crossed
+    return FactorBounds(np.minimum(lo, hi), np.maximum(lo, hi), None, None, crossed)
 
 
 def _one_by_one(S: ConstrainedZonotope, D: np.ndarray) -> np.ndarray:
