@@ -174,6 +174,7 @@ class EliminateConstraints(ReductionMethod):
         if isinstance(S, EmptySet) or S.nc == 0:
             return S
         d = CZData.of(S)
+        original = _Emptiness(S)
         # Free factors in a constraint: their elimination loses nothing.
         while True:
             free = np.flatnonzero(np.isinf(d.h) & np.any(d.A != 0.0, axis=0))
@@ -181,7 +182,7 @@ class EliminateConstraints(ReductionMethod):
                 break
             d = eliminate_factor(d, int(free[0]))
         while d.nc:
-            step = _rescaled(d)
+            step = _rescaled(d, original)
             if step is None:
                 return EmptySet(Z.dim)
             d, r, inside = step
@@ -200,8 +201,12 @@ class EliminateConstraints(ReductionMethod):
         return DropZeros().apply(d.to_set())
 
 
-def _rescaled(d: CZData):
+def _rescaled(d: CZData, original: "_Emptiness"):
     """Propagate, rescale to the propagated box, and keep independent rows.
+
+    ``original`` settles emptiness: that of the set the method was given, never that of the
+    re-parametrized data ``d``, whose eliminations and re-centrings may have made a flat, non-empty
+    set a hair infeasible (a reduction may only return `EmptySet` for an empty input).
 
     Returns ``(data, r, inside)`` or None when the set is proven empty. ``inside[j]``: the
     propagated range R_j lies inside factor j's bound (compared on outward-rounded bounds, so it is
@@ -209,7 +214,7 @@ def _rescaled(d: CZData):
     rescaled coordinates, the measure of the heuristic (A.8); ∞ for a free factor.
     """
     lo, hi, Rlo, Rhi, crossed = propagate(d.A, d.b, d.h)  # FactorBounds
-    if crossed and _proven_empty(d):
+    if crossed and original.proven():
         return None
     out = rescale_data(d, lo, hi)
     bounded = np.isfinite(lo) & np.isfinite(hi)
@@ -227,19 +232,28 @@ def _rescaled(d: CZData):
     # point-like set, where that roundoff is all there is): emptiness is judged on the data before
     # rescaling, which the rescaled data re-parametrize.
     basis = independent_rows(out.A, out.b)
-    if not basis.consistent and _proven_empty(d):
+    if not basis.consistent and original.proven():
         return None
     return out.keep_rows(basis.keep), r, inside
 
 
-def _proven_empty(d: CZData) -> bool:
-    """`is_empty` of the data, False when the solver cannot settle it (`SolverError`).
+class _Emptiness:
+    """Whether the set a reduction was given is empty, decided once and only when asked.
 
-    Called only where propagation found the data a hair infeasible, which happens for point-like
-    sets (extreme noise realizations) whose emptiness program is degenerate. Not declaring the set
-    empty keeps a superset: the caller goes on as for a set `is_empty` calls non-empty.
+    Asked only where propagation found the data a hair infeasible, which happens for point-like
+    sets (extreme noise realizations) whose emptiness program is degenerate. A `SolverError` counts
+    as non-empty: not declaring the set empty keeps a superset, and the caller goes on as for a set
+    `is_empty` calls non-empty.
     """
-    try:
-        return d.to_set().is_empty()
-    except SolverError:
-        return False
+
+    def __init__(self, S: ConstrainedZonotope):
+        self._set = S
+        self._verdict: bool | None = None
+
+    def proven(self) -> bool:
+        if self._verdict is None:
+            try:
+                self._verdict = bool(self._set.is_empty())
+            except SolverError:
+                self._verdict = False
+        return self._verdict

@@ -45,6 +45,12 @@ from ._base import CZData, ReductionMethod, certified_margin, round_down, round_
 __all__ = ["Rescale", "FactorBounds", "propagate", "rescale_data"]
 
 
+#: Smallest rescaled half-width of a factor, relative to its centre and former bound. The emptiness
+#: programs accept data consistent to ``EMPTINESS_TOL`` in units of the factor bounds; a factor squeezed
+#: below that (a point-like posterior, e.g. noises at their vertices) would turn the accepted
+#: inconsistency of the data, and the rounding of b − A m, into a verdict of emptiness.
+RESCALE_FLOOR = 10.0 * tol.EMPTINESS_TOL
+
 def gauss_jordan(A: np.ndarray) -> np.ndarray:
     """A row transform P (rank × nc) with P·A in reduced row-echelon form, full pivoting.
 
@@ -221,7 +227,9 @@ def rescale_data(d: CZData, lo: np.ndarray, hi: np.ndarray) -> CZData:
     Notes
     -----
     Floating point: r is rounded up so that [m − r, m + r] ⊇ [lo, hi] exactly, so no feasible factor
-    is lost. The products G diag(r), A diag(r) and the re-centred data c + G m, b − A m are rounded to
+    is lost, and kept at least ``RESCALE_FLOOR · max(|m|, h)``, so that a factor pinned to a point
+    keeps the slack that the emptiness tolerance and the re-centring's rounding need (an outer
+    widening of at most that relative size). The products G diag(r), A diag(r) and the re-centred data c + G m, b − A m are rounded to
     nearest: the result is the set of the data up to roundoff of those operations, i.e. within
     γ_{ng+1}·(|c| + |G||m|) of each centre coordinate and γ_{ng+1}·(|b| + |A||m|) of each right-hand
     side (Higham's bound), not a rigorous superset. Rounding margins here would be errors in an equality
@@ -232,9 +240,11 @@ def rescale_data(d: CZData, lo: np.ndarray, hi: np.ndarray) -> CZData:
     point = bounded & (lo == hi)
     with np.errstate(invalid="ignore"):  # ∞ − ∞ on free factors, masked by `bounded`
         m = np.where(bounded, np.where(point, lo, (lo + hi) / 2), 0.0)
-    # r with [m − r, m + r] ⊇ [lo, hi] despite the rounding of m; a factor fixed to a point gets an
-    # exactly zero column.
-        r = np.where(bounded, np.where(point, 0.0, round_up(np.maximum(hi - m, m - lo))), 1.0)
+        # r with [m − r, m + r] ⊇ [lo, hi] despite the rounding of m, and never below the rounding
+        # of the re-centring: a factor squeezed to (nearly) a point otherwise leaves b − A m
+        # inconsistent at roundoff level, and a flat but non-empty set would read as empty.
+        floor = RESCALE_FLOOR * np.maximum(np.abs(m), np.where(np.isfinite(d.h), d.h, 0.0))
+        r = np.where(bounded, np.maximum(round_up(np.maximum(hi - m, m - lo)), floor), 1.0)
     h = np.where(bounded, 1.0, np.inf)
     return CZData(d.G * r, d.c + d.G @ m, d.A * r, d.b - d.A @ m, h, d.sparse)
 
