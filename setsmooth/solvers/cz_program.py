@@ -183,7 +183,8 @@ class CZProgram:
         ``t = margin``: an interior-point method certifies infeasibility less reliably
         (AlmostPrimalInfeasible) than it solves. The explicit row t ≥ margin matters: without it a
         member (distance 0) leaves no slack and Clarabel often stops at AlmostSolved. The optimum is
-        compared with ``margin`` up to the solver's accuracy.
+        compared with ``margin`` up to the solver's accuracy on the program's data (the point, the
+        centre and the set's extent).
         """
         context = "deciding membership in a constrained zonotope"
         pre = self.factors.presolved
@@ -216,7 +217,9 @@ class CZProgram:
             bounds = [(None, None)] * (nvar + 1)
             res = linprog(q, A_ub=rows[m:], b_ub=r[m:], A_eq=rows[:m] if m else None,
                           b_eq=r[:m] if m else None, bounds=bounds, method="highs")
-            if res.status == 2:
+            # SciPy reports HiGHS's refusal of the data (entries beyond 1e15: "Model error") with
+            # the infeasible status too; only a verdict of infeasibility means empty.
+            if res.status == 2 and "infeasible" in res.message.lower():
                 status = "infeasible"
             elif res.status == 0:
                 status, t = "optimal", float(res.x[-1])
@@ -225,5 +228,10 @@ class CZProgram:
                                   context, kind="membership")
         if status == "infeasible":
             return False
-        scale = max(np.abs(p).max(initial=0.0), np.abs(self.c).max(initial=0.0))
+        # The optimum is accurate to the solver's tolerance relative to the data of its rows, which
+        # include the set's extent |G|·1 (η in the unit box): a blown-up set (generators ~1e15, as a
+        # reduced filter with few outputs can produce) cannot resolve distances below that, and
+        # calling a member a non-member there would be a silent wrong answer.
+        extent = abs(G).sum(axis=1).max() if sp.issparse(G) else np.abs(G).sum(axis=1).max(initial=0.0)
+        scale = max(np.abs(p).max(initial=0.0), np.abs(self.c).max(initial=0.0), float(extent))
         return bool(t <= margin + tol.scaled(tol.SOLVER_TOL, scale))

@@ -226,6 +226,8 @@ def simplex(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]
                   method="highs")
     names = {0: "AlmostSolved", 1: "MaxIterations", 2: "PrimalInfeasible", 3: "DualInfeasible"}
     name = names.get(res.status, "NumericalError")
+    if res.status == 2 and "infeasible" not in res.message.lower():
+        name = "NumericalError"  # SciPy's status 2 also carries HiGHS's refusal of the data
     if res.status != 0:
         return name, np.full(p, np.nan), np.full(m, np.nan)
     # HiGHS's marginals are ∂(min)/∂b_eq, i.e. q = Âᵀy + (bound duals): λ̂ = −y.
