@@ -60,28 +60,9 @@ def _example_31(B_identity_triangle: bool = False):
 
 
 def _custom_system():
-    import cvxpy as cp
-    import numpy as np
-
     import setsmooth as ss
     from setsmooth.paper_examples import smoothing_example_31
-
-    class L1Ball(ss.ConvexSet):
-        def __init__(self, center, radius):
-            self.c, self.r = np.asarray(center, dtype=float), float(radius)
-            self.dim = self.c.size
-
-        def constraints(self, x):
-            return [cp.norm1(x - self.c) <= self.r]
-
-    class VPolytope(ss.ConvexSet):
-        def __init__(self, vertices):
-            self.vertices = np.asarray(vertices, dtype=float)
-            self.dim = self.vertices.shape[1]
-
-        def constraints(self, x):
-            lam = cp.Variable(self.vertices.shape[0], nonneg=True)
-            return [cp.sum(lam) == 1, x == self.vertices.T @ lam]
+    from tests.custom_sets import L1Ball, VPolytope
 
     base = smoothing_example_31()
     V = VPolytope([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0], [0.0, 1.2]])

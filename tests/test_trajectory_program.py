@@ -1,6 +1,5 @@
 """The trajectory set of sets without a CZ form (`TrajectorySet`): the recursion's sets, one program."""
 
-import cvxpy as cp
 import numpy as np
 import pytest
 
@@ -9,32 +8,10 @@ from setsmooth.solvers import generic
 from setsmooth.filters.classical import predict, update
 from setsmooth.trajectories import TrajectorySet
 from setsmooth.trajectory_program import FilteredState
+from tests.custom_sets import L1Ball, VPolytope
 from tests.estimation_helpers import example_31
 
 DIRECTIONS = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0], [1.0, 1.0], [1.0, -2.0]])
-
-
-class L1Ball(ss.ConvexSet):
-    """{x : ‖x − c‖₁ ≤ r}, given only by its constraints (as the README invites)."""
-
-    def __init__(self, center, radius):
-        self.c, self.r = np.asarray(center, dtype=float), float(radius)
-        self.dim = self.c.size
-
-    def constraints(self, x):
-        return [cp.norm1(x - self.c) <= self.r]
-
-
-class VPolytope(ss.ConvexSet):
-    """The convex hull of the rows of ``vertices``, given only by its constraints."""
-
-    def __init__(self, vertices):
-        self.vertices = np.asarray(vertices, dtype=float)
-        self.dim = self.vertices.shape[1]
-
-    def constraints(self, x):
-        lam = cp.Variable(self.vertices.shape[0], nonneg=True)
-        return [cp.sum(lam) == 1, x == self.vertices.T @ lam]
 
 
 def _system(kind):
