@@ -38,8 +38,28 @@ def test_sampling_needs_a_non_empty_bounded_set_with_volume():
         rejection_sample(ss.ConstrainedZonotope(np.eye(1), [0], A=[[0.0]], b=[1.0]), rng)
     with pytest.raises(ValueError, match="unbounded"):
         rejection_sample(ss.HPolytope([[1.0, 0.0]], [0.0]), rng)
-    flat = ss.Zonotope([[1.0], [1.0]], [0.0, 0.0])
+    # A flat set without a CZ form (the diagonal segment as an H-polytope) is found by rejection.
+    flat = ss.HPolytope([[1.0, -1.0], [-1.0, 1.0], [1.0, 0.0], [-1.0, 0.0]], [0.0, 0.0, 1.0, 1.0])
     with pytest.raises(ValueError, match="too thin"):
         rejection_sample(flat, rng, max_tries=50)
     with pytest.raises(TypeError, match="rng must be a numpy.random.Generator"):
         rejection_sample(TRIANGLE, np.random.RandomState(0))
+
+
+def test_sampling_a_flat_constrained_zonotope_fails_at_once_naming_the_reason():
+    # A segment in the plane (two generators, one constraint): rejection can never accept.
+    W = ss.ConstrainedZonotope(G=0.1 * np.eye(2), c=np.zeros(2), A=[[1.0, 0.5]], b=[0.2])
+    with pytest.raises(ValueError, match="affine subspace of dimension 1 < 2"):
+        W.sample(np.random.default_rng(0), 1)
+    with pytest.raises(ValueError, match="no interior"):
+        ss.Zonotope(G=[[1.0], [1.0]], c=[0.0, 0.0]).sample(np.random.default_rng(0), 1)
+
+
+def test_a_full_dimensional_constrained_zonotope_is_not_called_flat():
+    from setsmooth.sets.sampling import affine_rank
+
+    Z = ss.ConstrainedZonotope(np.eye(2), np.zeros(2), A=np.zeros((0, 2)), b=np.zeros(0))
+    assert affine_rank(Z) == 2
+    T = ss.ConstrainedZonotope([[0.4, -0.3, 0.1], [0.1, 0.2, -0.35]], [0.0, 0.0], A=[[1.0, 1.0, 1.0]], b=[1.0])
+    assert affine_rank(T) == 2
+    assert T.sample(np.random.default_rng(1), 3).shape == (3, 2)
