@@ -145,10 +145,9 @@ def reduce(S: ConvexSet, method_or_methods: MethodOrMethods) -> ConvexSet:
 def apply_methods(S: ConvexSet, methods: tuple[ReductionMethod, ...]) -> ConvexSet:
     """`reduce` with trusted arguments (validated by the caller, e.g. once before a filter's loop).
 
-    A ``Rescale('iter')`` immediately followed by `EliminateConstraints` is skipped: every step of
-    the elimination begins with the same propagation and rescaling (Scott et al. 2016 §4.1) on the
-    same data, so running it twice would only repeat the Gauss–Jordan sweep. The result is the same
-    set as with the Rescale applied (both are exact re-parametrizations).
+    Every method is applied, in order. (A ``Rescale('iter')`` before `EliminateConstraints` is not
+    redundant: on the rescaled data the factors' propagated ranges lie inside their bounds, so the
+    elimination is exact where it would otherwise have to stop at ``max_constraints``.)
 
     Parameters
     ----------
@@ -175,13 +174,6 @@ def apply_methods(S: ConvexSet, methods: tuple[ReductionMethod, ...]) -> ConvexS
     >>> apply_methods(Z, ss.CORA_COMBASTEL).nc <= 1
     True
     """
-    for i, method in enumerate(methods):
-        if _repeated_by_next(method, methods[i + 1:i + 2]):
-            continue
+    for method in methods:
         S = method.apply(S)
     return S
-
-
-def _repeated_by_next(method: ReductionMethod, following: tuple[ReductionMethod, ...]) -> bool:
-    return (isinstance(method, Rescale) and method.method == "iter" and len(following) == 1
-            and isinstance(following[0], EliminateConstraints))

@@ -28,7 +28,7 @@ from ..empty import EmptySet
 from ..zonotope import Zonotope
 from ._base import CZData, ReductionMethod
 from .exact import DropDependentConstraints, DropZeros
-from .rescale import propagate, rescale_data
+from .rescale import RESCALE_FLOOR, propagate, rescale_data
 from ...linalg import independent_rows
 from ...solvers import SolverError
 
@@ -216,7 +216,7 @@ def _rescaled(d: CZData, original: "_Emptiness"):
     lo, hi, Rlo, Rhi, crossed = propagate(d.A, d.b, d.h)  # FactorBounds
     if crossed and original.proven():
         return None
-    out = rescale_data(d, lo, hi)
+    out = rescale_data(d, lo, hi, RESCALE_FLOOR)
     bounded = np.isfinite(lo) & np.isfinite(hi)
     inside = bounded & (Rlo >= -d.h) & (Rhi <= d.h)
     with np.errstate(invalid="ignore", divide="ignore"):  # ∞ − ∞ on free factors, masked

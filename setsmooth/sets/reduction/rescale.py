@@ -208,7 +208,7 @@ def _others_with_infinities(tlo: np.ndarray, thi: np.ndarray):
     return olo, ohi, np.abs(tlo[flo]).sum() + np.abs(thi[fhi]).sum()
 
 
-def rescale_data(d: CZData, lo: np.ndarray, hi: np.ndarray) -> CZData:
+def rescale_data(d: CZData, lo: np.ndarray, hi: np.ndarray, floor: float = 0.0) -> CZData:
     """Z(G diag(r), c + G m, A diag(r), b − A m, 1) for factor boxes [lo, hi] (free where unbounded).
 
     Parameters
@@ -218,6 +218,8 @@ def rescale_data(d: CZData, lo: np.ndarray, hi: np.ndarray) -> CZData:
     lo, hi : ndarray, shape (ng,)
         A box containing every feasible factor vector (e.g. `propagate`'s E); infinite entries leave
         the factor free (m_j = 0, r_j = 1, h_j = ∞).
+    floor : float
+        Smallest half-width relative to max(|m_j|, h_j) (0: none; see the notes).
 
     Returns
     -------
@@ -227,9 +229,14 @@ def rescale_data(d: CZData, lo: np.ndarray, hi: np.ndarray) -> CZData:
     Notes
     -----
     Floating point: r is rounded up so that [m − r, m + r] ⊇ [lo, hi] exactly, so no feasible factor
-    is lost, and kept at least ``RESCALE_FLOOR · max(|m|, h)``, so that a factor pinned to a point
-    keeps the slack that the emptiness tolerance and the re-centring's rounding need (an outer
-    widening of at most that relative size). The products G diag(r), A diag(r) and the re-centred data c + G m, b − A m are rounded to
+    is lost. A factor pinned to a point (lo = hi) gets a zero column, which is what lets
+    `EliminateConstraints` remove its constraints exactly; with ``floor`` > 0 every other factor keeps
+    a half-width of at least ``floor · max(|m|, h)``, the slack that the emptiness tolerance and the
+    re-centring's rounding need when bounds squeeze a factor nearly to a point (an outer widening of
+    at most that relative size). `Rescale('exact')` (LP bounds) and the rescaling inside
+    `EliminateConstraints` pass `RESCALE_FLOOR`; `Rescale('iter')` passes none, because the
+    elimination that follows it in CORA's pipeline must see the propagated bounds as they are (with
+    the floor, the CORA filter of `benchmarks/bench_reduction.py` was 2.7× looser at n = 20). The products G diag(r), A diag(r) and the re-centred data c + G m, b − A m are rounded to
     nearest: the result is the set of the data up to roundoff of those operations, i.e. within
     γ_{ng+1}·(|c| + |G||m|) of each centre coordinate and γ_{ng+1}·(|b| + |A||m|) of each right-hand
     side (Higham's bound), not a rigorous superset. Rounding margins here would be errors in an equality
@@ -240,11 +247,13 @@ def rescale_data(d: CZData, lo: np.ndarray, hi: np.ndarray) -> CZData:
     point = bounded & (lo == hi)
     with np.errstate(invalid="ignore"):  # ∞ − ∞ on free factors, masked by `bounded`
         m = np.where(bounded, np.where(point, lo, (lo + hi) / 2), 0.0)
-        # r with [m − r, m + r] ⊇ [lo, hi] despite the rounding of m, and never below the rounding
-        # of the re-centring: a factor squeezed to (nearly) a point otherwise leaves b − A m
-        # inconsistent at roundoff level, and a flat but non-empty set would read as empty.
-        floor = RESCALE_FLOOR * np.maximum(np.abs(m), np.where(np.isfinite(d.h), d.h, 0.0))
-        r = np.where(bounded, np.maximum(round_up(np.maximum(hi - m, m - lo)), floor), 1.0)
+        # r with [m − r, m + r] ⊇ [lo, hi] despite the rounding of m. A factor fixed to a point gets
+        # an exactly zero column (so its constraints can be eliminated exactly); any other is kept
+        # at least floor·max(|m|, h): bounds squeezed to within the solver's or the propagation's
+        # accuracy would leave b − A m inconsistent and a flat but non-empty set read as empty.
+        least = floor * np.maximum(np.abs(m), np.where(np.isfinite(d.h), d.h, 0.0))
+        r = np.where(bounded, np.where(point, 0.0,
+                                       np.maximum(round_up(np.maximum(hi - m, m - lo)), least)), 1.0)
     h = np.where(bounded, 1.0, np.inf)
     return CZData(d.G * r, d.c + d.G @ m, d.A * r, d.b - d.A @ m, h, d.sparse)
 
@@ -300,7 +309,8 @@ class Rescale(ReductionMethod):
         bounds = propagate(d.A, d.b, d.h) if self.method == "iter" else _exact_bounds(Z, d)
         if bounds.crossed and Z.is_empty():
             return EmptySet(Z.dim)
-        return rescale_data(d, bounds.lo, bounds.hi).to_set()
+        floor = RESCALE_FLOOR if self.method == "exact" else 0.0
+        return rescale_data(d, bounds.lo, bounds.hi, floor).to_set()
 
 
 def _exact_bounds(Z: ConstrainedZonotope, d: CZData) -> FactorBounds:
