@@ -23,6 +23,7 @@ from scipy.optimize import linprog
 
 import setsmooth as ss
 from setsmooth import tolerances as tol
+from tests.solvers.test_generic_reliability import rewrite
 
 warnings.filterwarnings("ignore")
 
@@ -63,17 +64,7 @@ def rescaled(path: str, k: float = 12) -> tuple[int, int]:
         b, h = A @ rng.uniform(-0.5, 0.5, ng), np.ones(ng)
         D = rng.standard_normal((6, n))
         for kind in ("rows", "factors", "coordinates"):
-            G2, c2, A2, b2, h2, sig = G, c, A, b, h, np.ones(n)
-            if kind == "rows":
-                r = 10.0 ** rng.uniform(-k, k, nc)
-                A2, b2 = A * r[:, None], b * r
-            elif kind == "factors":
-                f = 10.0 ** rng.uniform(-k, k, ng)
-                G2, A2, h2 = G * f, A * f, h / f
-            else:
-                sig = 10.0 ** rng.uniform(-k, k, n)
-                G2, c2 = G * sig[:, None], c * sig
-            Z = ss.ConstrainedZonotope(G2, c2, A=A2, b=b2, h=h2)
+            Z, sig = rewrite(rng, kind, k, G, c, A, b, h)
             bad = raised = False
             for d in D:
                 exact = highs(G, c, A, b, h, sig * d)

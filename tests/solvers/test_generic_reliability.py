@@ -28,10 +28,20 @@ def rescaled(rng, kind, k):
     n, ng, nc = rng.integers(2, 4), rng.integers(5, 8), rng.integers(1, 3)
     G, c, A = rng.standard_normal((n, ng)), rng.standard_normal(n), rng.standard_normal((nc, ng))
     b, h = A @ rng.uniform(-0.5, 0.5, ng), np.ones(ng)
+    Z, sigma = rewrite(rng, kind, k, G, c, A, b, h)
+    return (G, c, A, b, h), Z, sigma
+
+
+def rewrite(rng, kind, k, G, c, A, b, h):
+    """Z(G, c, A, b, h) with its constraint rows, factors or coordinates scaled by 10^U(−k, k).
+
+    Returns the CZ and σ: the same set for 'rows' and 'factors' (σ = 1), diag(σ)·Z for 'coordinates'.
+    """
+    n, ng = G.shape
     sigma = np.ones(n)
     G2, c2, A2, b2, h2 = G, c, A, b, h
     if kind == "rows":
-        r = 10.0 ** rng.uniform(-k, k, nc)
+        r = 10.0 ** rng.uniform(-k, k, A.shape[0])
         A2, b2 = A * r[:, None], b * r
     elif kind == "factors":
         f = 10.0 ** rng.uniform(-k, k, ng)
@@ -39,7 +49,7 @@ def rescaled(rng, kind, k):
     else:
         sigma = 10.0 ** rng.uniform(-k, k, n)
         G2, c2 = G * sigma[:, None], c * sigma
-    return (G, c, A, b, h), ss.ConstrainedZonotope(G2, c2, A=A2, b=b2, h=h2), sigma
+    return ss.ConstrainedZonotope(G2, c2, A=A2, b=b2, h=h2), sigma
 
 
 @pytest.mark.parametrize("k", [6, 12])
