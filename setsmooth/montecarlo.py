@@ -40,10 +40,12 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int,
         Number of runs, at least 1.
     seed : int
         Non-negative root seed; run i uses the i-th child of ``numpy.random.SeedSequence(seed)``.
-    executor : concurrent.futures.Executor, 'serial' or None
+    executor : concurrent.futures.Executor, distributed.Client, 'serial' or None
         None: a `ProcessPoolExecutor` with ``workers`` processes, created and shut down here (a single
         run is executed in-process). 'serial': every run in this process, in order. An `Executor`
-        instance is used as is and left running.
+        instance is used as is and left running. A ``dask.distributed.Client`` (the ``setsmooth[dask]``
+        extra) sends chunks of runs to its cluster as tasks (`setsmooth.dask_runs`); a worker lost
+        mid-run has its tasks recomputed, with the same results, and the client is left open.
     progress : bool
         Show a tqdm progress bar.
     workers : int, optional
@@ -59,7 +61,7 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int,
     ------
     TypeError
         When ``trial`` is not callable, ``n_runs``/``seed``/``workers`` are not integers,
-        ``executor`` is neither None, 'serial' nor an Executor, or a process pool would run a
+        ``executor`` is neither None, 'serial', an Executor nor a Dask client, or a process pool would run a
         ``trial`` that cannot be pickled (a lambda, a local function, a partial of one): checked
         before the pool starts.
     ValueError
@@ -73,8 +75,10 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int,
     if workers is not None:
         workers = _integer(workers, "workers", minimum=1)
     serial = isinstance(executor, str) and executor == "serial"
-    if not (executor is None or serial or isinstance(executor, Executor)):
-        raise TypeError(f"executor must be None, 'serial' or a concurrent.futures.Executor, got {executor!r}")
+    dask_client = _is_dask_client(executor)
+    if not (executor is None or serial or isinstance(executor, Executor) or dask_client):
+        raise TypeError("executor must be None, 'serial', a concurrent.futures.Executor or a "
+                        f"dask.distributed.Client, got {executor!r}")
 
     seeds = np.random.SeedSequence(seed).spawn(n_runs)
     call = functools.partial(_call_trial, trial)
@@ -82,6 +86,11 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int,
 
     if serial or (executor is None and n_runs == 1):
         return [result for result in bar(map(call, seeds))]
+    if dask_client:
+        from .dask_runs import run_chunks
+
+        n_workers = max(1, len(executor.scheduler_info().get("workers", {})))
+        return run_chunks(executor, call, seeds, bar, _chunksize(n_runs, n_workers))
     if executor is None or isinstance(executor, ProcessPoolExecutor):
         # A pool that fails to pickle a task can hang in shutdown (2 runs in 10 with a lambda), so an
         # unpicklable trial is refused here, before any process starts.
@@ -95,6 +104,12 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int,
     finally:
         # On an error (or Ctrl-C) do not wait for thousands of queued runs.
         pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _is_dask_client(obj: Any) -> bool:
+    # By type name, so that the core never imports Dask.
+    return any(cls.__name__ == "Client" and cls.__module__.startswith("distributed")
+               for cls in type(obj).__mro__)
 
 
 def _mapped(executor: Executor, call: Callable, seeds: list, bar: Callable, chunksize: int) -> list:

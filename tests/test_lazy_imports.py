@@ -33,3 +33,12 @@ def test_every_public_name_resolves_to_its_defining_object():
 def test_an_unknown_name_is_an_attribute_error():
     with pytest.raises(AttributeError, match="no_such_name"):
         ss.no_such_name
+
+
+def test_the_core_never_imports_dask():
+    out = _run("import sys, numpy as np, setsmooth as ss, setsmooth.cli\n"
+               "from setsmooth.montecarlo import run\n"
+               "run(np.random.Generator.random, 3, seed=0, executor='serial', progress=False)\n"
+               "ss.classical_filter; ss.optimal_smoother; ss.Box([0], [1]).interval_hull()\n"
+               "print(sorted(m for m in ('dask', 'distributed') if m in sys.modules))")
+    assert out.strip() == "[]"
