@@ -45,7 +45,7 @@ def main() -> None:
 
     start = time.perf_counter()
     cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                           dashboard_address=None, silence_logs=40)
+                           dashboard_address=":0", silence_logs=40)
     client = Client(cluster)
     client.run(lambda: __import__("smoothing_fig3") and __import__("smoothing_fig6"))  # warm imports
     print(f"local cluster start-up (2 worker processes, imports warm): {time.perf_counter() - start:.1f} s")

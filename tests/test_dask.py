@@ -63,7 +63,7 @@ def kill_once(rng: np.random.Generator, marker: str, log: str) -> float:
 @pytest.fixture(scope="module")
 def client():
     cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                       host="127.0.0.1", dashboard_address=None, silence_logs=40)
+                                       host="127.0.0.1", dashboard_address=":0", silence_logs=40)
     with distributed.Client(cluster) as c:
         yield c
     cluster.close()
@@ -125,9 +125,9 @@ def test_figures_command_on_a_scheduler_equals_a_serial_run(client, tmp_path: Pa
     from setsmooth import cli
 
     address = client.scheduler.address
-    assert cli.main(["figures", "smoothing_fig6", "--runs", "40", "--no-progress",
+    assert cli.main(["figures", "smoothing_fig6", "--runs", "20", "--no-progress",
                      "--scheduler", address, "--out", str(tmp_path / "dask")]) == 0
-    assert cli.main(["figures", "smoothing_fig6", "--runs", "40", "--no-progress", "--workers", "1",
+    assert cli.main(["figures", "smoothing_fig6", "--runs", "20", "--no-progress", "--workers", "1",
                      "--out", str(tmp_path / "local")]) == 0
     name = "smoothing_fig6.json"
     assert _figure_numbers(tmp_path / "dask" / name) == _figure_numbers(tmp_path / "local" / name)
@@ -139,3 +139,9 @@ def test_scheduler_and_workers_together_are_refused(capsys):
     with pytest.raises(SystemExit):
         cli.main(["figures", "--scheduler", "tcp://127.0.0.1:1", "--workers", "2"])
     assert "--workers" in capsys.readouterr().err
+
+
+def test_progress_bar_advances_to_the_last_run_on_a_cluster(client, capsys):
+    run(draw, 30, seed=1, executor=client, progress=True)
+    err = capsys.readouterr().err
+    assert "30/30" in err and "Monte Carlo" in err
