@@ -40,8 +40,25 @@ def _norm_order(norm: Any) -> float:
     raise ValueError(f"norm must be 2 or inf, got {norm!r}")
 
 
+def _is_vertex_array(S) -> bool:
+    return isinstance(S, (np.ndarray, list, tuple))
+
+
+def _as_polygon(S) -> np.ndarray:
+    V = np.asarray(S, dtype=float)
+    if V.size == 0:
+        return V.reshape(0, 2)
+    if V.ndim != 2 or V.shape[1] not in (1, 2):
+        raise ValueError("a vertex array must have shape (k, 1) or (k, 2) (a polygon's vertices, "
+                         f"counter-clockwise as from vertices_2d), got {V.shape}")
+    return V
+
+
 def polytope_vertices(S) -> np.ndarray:
     """Vertices of a bounded polytopic set, shape (k, dim): 1-D interval ends, 2-D polygon, box corners.
+
+    A vertex array (shape (k, 1) or (k, 2), a polygon counter-clockwise as `vertices_2d` gives it) is
+    returned as it is, so that a polygon computed once can be passed to every function here.
 
     Raises
     ------
@@ -51,6 +68,8 @@ def polytope_vertices(S) -> np.ndarray:
         When the set is empty.
     """
     from ..sets import Box
+    if _is_vertex_array(S):
+        return _as_polygon(S)
     if S.is_empty():
         raise ValueError("the set is empty: it has no vertices")
     if S.dim == 1:
@@ -63,6 +82,14 @@ def polytope_vertices(S) -> np.ndarray:
                          for bits in itertools.product((0, 1), repeat=S.dim)])
     raise NotImplementedError(f"vertex enumeration of a {type(S).__name__} in dimension {S.dim} is not "
                               "available (2-D sets and boxes only)")
+
+
+def _dim(S) -> int:
+    return _as_polygon(S).shape[1] if _is_vertex_array(S) else S.dim
+
+
+def _empty(S) -> bool:
+    return len(_as_polygon(S)) == 0 if _is_vertex_array(S) else S.is_empty()
 
 
 def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray, order: float) -> float:
@@ -114,7 +141,7 @@ def point_polygon_distance(p: Any, V: Any, norm: Any = 2) -> float:
 def _directed(VS: np.ndarray, T, VT: np.ndarray | None, order: float) -> float:
     """max over vertices a of S of dist(a, T)."""
     if VT is not None:
-        if T.dim == 1:
+        if VT.shape[1] == 1:
             lo, hi = VT.min(), VT.max()
             return float(max(max(lo - a[0], a[0] - hi, 0.0) for a in VS))
         return max(point_polygon_distance(a, VT, order) for a in VS)
@@ -135,9 +162,10 @@ def hausdorff_distance(S, T, norm: Any = 2) -> float:
 
     Parameters
     ----------
-    S, T : ConvexSet
+    S, T : ConvexSet or ndarray
         Bounded polytopic sets of the same dimension whose vertices `polytope_vertices` enumerates
-        (1-D and 2-D sets of any representation, boxes up to dimension 12).
+        (1-D and 2-D sets of any representation, boxes up to dimension 12), or polygons given by
+        their counter-clockwise vertices (shape (k, 2), as from `vertices_2d`).
     norm : {2, inf}
         The norm of (10).
 
@@ -162,13 +190,13 @@ def hausdorff_distance(S, T, norm: Any = 2) -> float:
     (1.414213562373, 1.0)
     """
     order = _norm_order(norm)
-    if S.dim != T.dim:
-        raise ValueError(f"S and T must have the same dimension, got {S.dim} and {T.dim}")
-    empty_s, empty_t = S.is_empty(), T.is_empty()
+    if _dim(S) != _dim(T):
+        raise ValueError(f"S and T must have the same dimension, got {_dim(S)} and {_dim(T)}")
+    empty_s, empty_t = _empty(S), _empty(T)
     if empty_s or empty_t:
         return 0.0 if (empty_s and empty_t) else math.inf
     VS, VT = polytope_vertices(S), polytope_vertices(T)
-    planar = S.dim <= 2
+    planar = _dim(S) <= 2
     return max(_directed(VS, T, VT if planar else None, order),
                _directed(VT, S, VS if planar else None, order))
 
@@ -180,7 +208,7 @@ def vertex_hausdorff_surrogate(S, T, norm: Any = 2) -> float:
     distance to that set's nearest vertex). ``inf`` when exactly one set is empty.
     """
     order = _norm_order(norm)
-    empty_s, empty_t = S.is_empty(), T.is_empty()
+    empty_s, empty_t = _empty(S), _empty(T)
     if empty_s or empty_t:
         return 0.0 if (empty_s and empty_t) else math.inf
     VS, VT = polytope_vertices(S), polytope_vertices(T)
@@ -196,9 +224,11 @@ def diameter(S, norm: Any = 2) -> float:
     for sets `polytope_vertices` can enumerate. ``-inf`` for the empty set.
     """
     order = _norm_order(norm)
-    if order == math.inf:
-        return float(S.diameter())
-    if S.is_empty():
+    if _empty(S):
         return -math.inf
+    if order == math.inf and not _is_vertex_array(S):
+        return float(S.diameter())
     V = polytope_vertices(S)
+    if order == math.inf:
+        return float(np.max(V.max(axis=0) - V.min(axis=0)))
     return float(np.linalg.norm(V[:, None, :] - V[None, :, :], axis=2).max())

@@ -104,3 +104,16 @@ def test_diameters_in_both_norms():
         analysis.diameter(S, 1)
     with pytest.raises(NotImplementedError, match="vertex enumeration"):
         analysis.diameter(ss.Zonotope(np.eye(3), np.zeros(3)), 2)
+
+
+def test_polygons_given_by_vertices_give_the_same_numbers_as_the_sets():
+    rng = np.random.default_rng(5)
+    S, T = _random_polygon(rng), _random_polygon(rng)
+    VS, VT = S.vertices_2d(), T.vertices_2d()
+    for norm in (2, "inf"):
+        assert analysis.hausdorff_distance(VS, VT, norm) == pytest.approx(analysis.hausdorff_distance(S, T, norm))
+        assert analysis.diameter(VS, norm) == pytest.approx(analysis.diameter(S, norm), rel=1e-6)
+    assert analysis.vertex_hausdorff_surrogate(VS, VT) == analysis.vertex_hausdorff_surrogate(S, T)
+    assert analysis.hausdorff_distance(VS, np.zeros((0, 2))) == math.inf
+    with pytest.raises(ValueError, match="shape"):
+        analysis.hausdorff_distance(np.ones((3, 3)), VT)
