@@ -30,6 +30,9 @@ _EXPORTS = {
     "IntervalEstimates": ".intervals",
     "montecarlo": ".montecarlo",
     "paper_examples": ".paper_examples",
+    "analysis": ".analysis",
+    **dict.fromkeys(["observation_set", "observation_information_set", "observation_information_tower"],
+                    ".observation_information"),
 }
 
 __all__ = [
@@ -42,6 +45,7 @@ __all__ = [
     "reduce", "ReductionMethod", "DropZeros", "DropDependentConstraints", "MergeParallelGenerators",
     "Rescale", "EliminateConstraints", "Girard", "Combastel", "IntervalHull", "CORA_GIRARD",
     "CORA_COMBASTEL",
+    "analysis", "observation_set", "observation_information_set", "observation_information_tower",
 ]
 
 
@@ -60,9 +64,11 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
-    from . import montecarlo, paper_examples
+    from . import analysis, montecarlo, paper_examples
     from .filters import KalmanResult, classical_filter, interval_filter, kalman_filter, rts_smoother
     from .intervals import IntervalEstimates
+    from .observation_information import (observation_information_set, observation_information_tower,
+                                          observation_set)
     from .sets import (Box, CartesianProduct, ConstrainedZonotope, ConvexSet, Ellipsoid, EmptySet,
                        GeneralizedIntersection, HPolytope, Intersection, LinearMap, MinkowskiSum, Reals,
                        Zonotope)
