@@ -3,7 +3,6 @@
 import pickle
 
 import numpy as np
-import pytest
 import scipy.sparse as sp
 from scipy.optimize import linprog
 
