@@ -169,3 +169,19 @@ def test_the_banded_free_factor_bound_encloses_the_states():
     # Every state deviation over the set is at most β (its support along ±e_j of the states).
     hull = Z.interval_hull(certified=True)
     assert np.all(np.maximum(np.abs(hull.hi - Z.c), np.abs(hull.lo - Z.c)) <= beta)
+
+
+def test_threads_querying_the_same_views_get_the_serial_answers():
+    from concurrent.futures import ThreadPoolExecutor
+
+    system = smoothing_example_31()
+    _, ys = ss.simulate(system, X0, VIEWS_FROM_STEPS + 2, np.random.default_rng(6))
+    views = ss.classical_filter(system, X0, ys)
+    picks = [3, 30, 50, len(ys) - 1]
+    D = np.vstack([np.eye(2), -np.eye(2)])
+    serial = [views[k].support_many(D) for k in picks]
+    fresh = ss.classical_filter(system, X0, ys)  # no answers cached on these views yet
+    with ThreadPoolExecutor(4) as pool:
+        threaded = list(pool.map(lambda k: fresh[k].support_many(D), picks * 2))
+    for got, want in zip(threaded, serial * 2):
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-7 * (1 + np.abs(want).max()))
