@@ -3,6 +3,7 @@
 import pickle
 
 import numpy as np
+import pytest
 import scipy.sparse as sp
 from scipy.optimize import linprog
 
@@ -185,3 +186,18 @@ def test_threads_querying_the_same_views_get_the_serial_answers():
         threaded = list(pool.map(lambda k: fresh[k].support_many(D), picks * 2))
     for got, want in zip(threaded, serial * 2):
         np.testing.assert_allclose(got, want, rtol=0, atol=1e-7 * (1 + np.abs(want).max()))
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_views_of_time_varying_systems_with_inputs_are_the_recursion_posteriors(seed):
+    from tests.test_trajectories import _random_system
+
+    rng = np.random.default_rng(100 + seed)
+    system = _random_system(rng, 3, time_varying=True, with_input=True, sparse_noise=seed == 1)
+    prior = ss.Box(-np.ones(3), np.ones(3))
+    _, ys = ss.simulate(system, prior, 25, rng)
+    views, recursion = posterior_views(system, prior, ys), recursion_posteriors(system, prior, ys)
+    D = np.vstack([np.eye(3), -np.eye(3), rng.standard_normal((4, 3))])
+    for k in (0, 4, 25):
+        ours, theirs = views[k].support_many(D), recursion[k].support_many(D)
+        np.testing.assert_allclose(ours, theirs, atol=1e-6 * (1 + np.abs(theirs).max()), err_msg=f"k={k}")
