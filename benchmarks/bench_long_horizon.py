@@ -12,6 +12,8 @@ Cases (full size / ``--quick`` size):
   times also apart).
 * ``triangle``: example (31)'s dynamics with B = I and the triangle CZ of
   ``examples/new_set_representation.py`` as W, T = 800 (quick 100): filter + every certified hull.
+* ``crossover``: example (31)'s exact filter with certified hulls as posterior views and as the
+  recursion's CZs, on the same data in one process (`classical_filter.VIEWS_FROM_STEPS`), T = 50, 100.
 * ``fig3``: one Monte-Carlo run of the smoothing paper's Fig. 3 (``paper_figures/smoothing_fig3.py``,
   T = 50), median over repeats with different seeds.
 
@@ -40,8 +42,10 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 
-FULL = {"filter31": [100, 400, 800], "smoother3": [600], "custom": [50], "triangle": [800], "fig3": [50]}
-QUICK = {"filter31": [25, 50, 100], "smoother3": [150], "custom": [10], "triangle": [100], "fig3": [50]}
+FULL = {"filter31": [100, 400, 800], "smoother3": [600], "custom": [50], "triangle": [800], "fig3": [50],
+        "crossover": [50, 100]}
+QUICK = {"filter31": [25, 50, 100], "smoother3": [150], "custom": [10], "triangle": [100], "fig3": [50],
+         "crossover": [50]}
 
 
 # -- the cases (run in the child process, with the measured checkout's setsmooth) ----------------------
@@ -124,6 +128,21 @@ def run_case(case: str, size: int, seed: int) -> dict:
                      for hulls in (filtered, smoothed) for h, x in zip(hulls, xs))
         extra = {"steps": size + 1, "filter_s": filter_s,
                  "smoother_s": time.perf_counter() - wall - filter_s, "true_states_inside": bool(inside)}
+    elif case == "crossover":
+        import setsmooth.filters.classical as classical
+
+        system, X0 = _example_31(), ss.Box([-5.0, -5.0], [5.0, 5.0])
+        _, ys = ss.simulate(system, X0, size, np.random.default_rng(seed))
+        times = {}
+        for form, threshold in (("views", 0), ("recursion", len(ys) + 1)):
+            saved, classical.VIEWS_FROM_STEPS = classical.VIEWS_FROM_STEPS, threshold
+            try:
+                start = time.process_time()
+                [P.interval_hull(certified=True) for P in ss.classical_filter(system, X0, ys)]
+                times[form] = time.process_time() - start
+            finally:
+                classical.VIEWS_FROM_STEPS = saved
+        extra = {"steps": size + 1, "views_cpu_s": times["views"], "recursion_cpu_s": times["recursion"]}
     elif case == "fig3":
         figures = os.path.join(os.environ.get("BENCH_CHECKOUT", ROOT), "paper_figures")
         sys.path.insert(0, figures)
@@ -194,6 +213,9 @@ def _summary(results: list[dict]) -> dict:
     if "filter_s" in ok[0]:
         out["note"] = (f"filter {med('filter_s'):.2f} s, smoother {med('smoother_s'):.2f} s, "
                        f"inside {all(r['true_states_inside'] for r in ok)}")
+    if "views_cpu_s" in ok[0]:
+        out["note"] = (f"cpu: views {med('views_cpu_s'):.2f} s, recursion {med('recursion_cpu_s'):.2f} s "
+                       f"(ratio {med('recursion_cpu_s') / med('views_cpu_s'):.2f})")
     if "empty" in ok[0]:
         out["note"] = f"empty posteriors {max(r['empty'] for r in ok)}"
     if len(ok) < len(results):

@@ -22,8 +22,9 @@ from ..sets.reduction import apply_methods, as_methods
 
 #: From this many measurements on, the exact filter's CZ posteriors are views of one trajectory CZ
 #: (`setsmooth.posterior_views`) instead of the recursion's CZs. Below, the recursion's small dense
-#: CZs (no free factors) are cheaper to query: example (31) with certified hulls, CPU per data set,
-#: T = 50: 0.25 s recursion, 0.36 s views; T = 100: 1.5 s, 1.0 s (benchmarks/bench_long_horizon.py).
+#: CZs (no free factors) are cheaper to query: example (31) with certified hulls, CPU per data set at
+#: T = 50, views 0.50 s, recursion 0.38 s (``benchmarks/bench_long_horizon.py --cases crossover``);
+#: the recursion's cost grows as O(T³), the views' as O(T²).
 VIEWS_FROM_STEPS = 64
 
 
