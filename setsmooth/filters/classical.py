@@ -23,7 +23,8 @@ from ..sets.reduction import apply_methods, as_methods
 #: From this many measurements on, the exact filter's CZ posteriors are views of one trajectory CZ
 #: (`setsmooth.posterior_views`) instead of the recursion's CZs. Below, the recursion's small dense
 #: CZs (no free factors) are cheaper to query: example (31) with certified hulls, CPU per data set at
-#: T = 50, views 0.50 s, recursion 0.38 s (``benchmarks/bench_long_horizon.py --cases crossover``);
+#: T = 50, views 0.33 s, recursion 0.22 s; T = 100, 0.88 s and 1.37 s (``benchmarks/bench_long_horizon.py
+#: --cases crossover``);
 #: the recursion's cost grows as O(T³), the views' as O(T²).
 VIEWS_FROM_STEPS = 64
 
