@@ -12,6 +12,8 @@ Cases (full size / ``--quick`` size):
   times also apart).
 * ``triangle``: example (31)'s dynamics with B = I and the triangle CZ of
   ``examples/new_set_representation.py`` as W, T = 800 (quick 100): filter + every certified hull.
+* ``crossover``: example (31)'s exact filter with certified hulls as posterior views and as the
+  recursion's CZs, on the same data in one process (`classical_filter.VIEWS_FROM_STEPS`), T = 50, 100.
 * ``fig3``: one Monte-Carlo run of the smoothing paper's Fig. 3 (``paper_figures/smoothing_fig3.py``,
   T = 50), median over repeats with different seeds.
 
@@ -40,8 +42,10 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 
-FULL = {"filter31": [100, 400, 800], "smoother3": [600], "custom": [50], "triangle": [800], "fig3": [50]}
-QUICK = {"filter31": [25, 50, 100], "smoother3": [150], "custom": [10], "triangle": [100], "fig3": [50]}
+FULL = {"filter31": [100, 400, 800], "smoother3": [600], "custom": [50], "triangle": [800], "fig3": [50],
+        "crossover": [50, 100]}
+QUICK = {"filter31": [25, 50, 100], "smoother3": [150], "custom": [10], "triangle": [100], "fig3": [50],
+         "crossover": [50]}
 
 
 # -- the cases (run in the child process, with the measured checkout's setsmooth) ----------------------
@@ -124,6 +128,21 @@ def run_case(case: str, size: int, seed: int) -> dict:
                      for hulls in (filtered, smoothed) for h, x in zip(hulls, xs))
         extra = {"steps": size + 1, "filter_s": filter_s,
                  "smoother_s": time.perf_counter() - wall - filter_s, "true_states_inside": bool(inside)}
+    elif case == "crossover":
+        import setsmooth.filters.classical as classical
+
+        system, X0 = _example_31(), ss.Box([-5.0, -5.0], [5.0, 5.0])
+        _, ys = ss.simulate(system, X0, size, np.random.default_rng(seed))
+        times = {}
+        for form, threshold in (("views", 0), ("recursion", len(ys) + 1)):
+            saved, classical.VIEWS_FROM_STEPS = classical.VIEWS_FROM_STEPS, threshold
+            try:
+                start = time.process_time()
+                [P.interval_hull(certified=True) for P in ss.classical_filter(system, X0, ys)]
+                times[form] = time.process_time() - start
+            finally:
+                classical.VIEWS_FROM_STEPS = saved
+        extra = {"steps": size + 1, "views_cpu_s": times["views"], "recursion_cpu_s": times["recursion"]}
     elif case == "fig3":
         figures = os.path.join(os.environ.get("BENCH_CHECKOUT", ROOT), "paper_figures")
         sys.path.insert(0, figures)
@@ -155,6 +174,21 @@ def _child(case: str, size: int, seed: int) -> None:
 
 
 # -- the driver -------------------------------------------------------------------------------------------
+#: issue 8's targets per (case, full size): what is asked, and what the summary shows of it.
+TARGETS = {
+    ("filter31", 800): ("completes, <= 40 ms per step, peak <= 500 MB",
+                        lambda s: f"completes, {s['ms_step']:.1f} ms/step wall ({s['cpu_ms_step']:.1f} cpu), "
+                                  f"peak {s['peak_mb']:.0f} MB"),
+    ("smoother3", 600): ("build + all certified hulls <= 30 s",
+                         lambda s: f"{s['wall_s']:.1f} s wall ({s['cpu_s']:.1f} s cpu)"),
+    ("custom", 50): ("filter + smoother + hulls <= 30 s",
+                     lambda s: f"{s['wall_s']:.1f} s wall ({s['cpu_s']:.1f} s cpu)"),
+    ("triangle", 800): ("completes", lambda s: f"completes, {s['wall_s']:.1f} s wall ({s['cpu_s']:.1f} s cpu)"),
+    ("fig3", 50): ("one Monte-Carlo run <= 0.15 s",
+                   lambda s: f"{s['wall_s']:.3f} s wall ({s['cpu_s']:.3f} s cpu)"),
+}
+
+
 def _measure(checkout: str, case: str, size: int, seed: int, timeout: float) -> dict:
     env = dict(os.environ, PYTHONPATH=os.path.abspath(checkout), BENCH_CHECKOUT=os.path.abspath(checkout))
     cmd = [sys.executable, os.path.abspath(__file__), "--child", case, str(size), str(seed)]
@@ -174,10 +208,14 @@ def _summary(results: list[dict]) -> dict:
         return {"error": results[0]["error"], "peak_mb": max(r.get("peak_mb", 0.0) for r in results)}
     med = lambda key: statistics.median(r[key] for r in ok)  # noqa: E731
     out = {"wall_s": med("wall_s"), "cpu_s": med("cpu_s"), "peak_mb": max(r["peak_mb"] for r in ok),
-           "ms_step": 1e3 * med("wall_s") / ok[0]["steps"], "n": len(ok), "failed": len(results) - len(ok)}
+           "ms_step": 1e3 * med("wall_s") / ok[0]["steps"], "cpu_ms_step": 1e3 * med("cpu_s") / ok[0]["steps"],
+           "n": len(ok), "failed": len(results) - len(ok)}
     if "filter_s" in ok[0]:
         out["note"] = (f"filter {med('filter_s'):.2f} s, smoother {med('smoother_s'):.2f} s, "
                        f"inside {all(r['true_states_inside'] for r in ok)}")
+    if "views_cpu_s" in ok[0]:
+        out["note"] = (f"cpu: views {med('views_cpu_s'):.2f} s, recursion {med('recursion_cpu_s'):.2f} s "
+                       f"(ratio {med('recursion_cpu_s') / med('views_cpu_s'):.2f})")
     if "empty" in ok[0]:
         out["note"] = f"empty posteriors {max(r['empty'] for r in ok)}"
     if len(ok) < len(results):
@@ -188,8 +226,9 @@ def _summary(results: list[dict]) -> dict:
 
 def _row(label: str, s: dict) -> str:
     if "wall_s" not in s:
-        return f"{label:<22}{'–':>10}{'–':>10}{'–':>10}{s['peak_mb']:>10.0f}  {s['error']}"
-    return (f"{label:<22}{s['wall_s']:>10.2f}{s['cpu_s']:>10.2f}{s['ms_step']:>10.1f}{s['peak_mb']:>10.0f}"
+        return f"{label:<22}{'–':>10}{'–':>10}{'–':>10}{'–':>10}{s['peak_mb']:>10.0f}  {s['error']}"
+    return (f"{label:<22}{s['wall_s']:>10.2f}{s['cpu_s']:>10.2f}{s['ms_step']:>10.1f}{s['cpu_ms_step']:>10.1f}"
+            f"{s['peak_mb']:>10.0f}"
             f"  {s.get('note', '')}")
 
 
@@ -214,7 +253,7 @@ def main() -> None:
           f"medians; peak = max ru_maxrss over repeats)")
     for c in checkouts:
         print(f"  checkout {os.path.abspath(c)}")
-    header = f"{'case':<22}{'wall s':>10}{'cpu s':>10}{'ms/step':>10}{'peak MB':>10}  notes"
+    header = f"{'case':<22}{'wall s':>10}{'cpu s':>10}{'ms/step':>10}{'cpu ms/st':>10}{'peak MB':>10}  notes"
     table: dict[tuple[str, int], list[dict]] = {}
     for case in args.cases.split(","):
         for size in sizes[case]:
@@ -233,7 +272,20 @@ def main() -> None:
               f"{os.path.basename(os.path.abspath(args.checkout))} (> 1: the first checkout is faster)")
         for (case, size), (a, b) in table.items():
             ratio = f"{b['wall_s'] / a['wall_s']:.1f}x" if "wall_s" in a and "wall_s" in b else "–"
-            print(f"{case + ' T=' + str(size):<22}{ratio:>10}")
+            cpu = f"{b['cpu_s'] / a['cpu_s']:.1f}x" if "cpu_s" in a and "cpu_s" in b else "–"
+            print(f"{case + ' T=' + str(size):<22}{ratio:>10}  (cpu {cpu})")
+    print(f"\nissue 8's targets ({os.path.basename(os.path.abspath(args.checkout))}; wall-clock and CPU, "
+          f"full sizes only)")
+    for (case, size), summaries in table.items():
+        target = TARGETS.get((case, size))
+        if target is None:
+            continue
+        s = summaries[0]
+        if "wall_s" not in s:
+            print(f"  {case} T={size}: {target[0]} -> {s['error']}")
+            continue
+        measured = target[1](s)
+        print(f"  {case} T={size}: {target[0]} -> {measured}")
 
 
 if __name__ == "__main__":

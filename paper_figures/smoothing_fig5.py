@@ -8,7 +8,9 @@ SMS point estimate: the centre of the interval hull of ⟦x_k | y_{0:T}⟧ (`Con
 with Q = q, R = r·I (32), (q, r) the best pair of Fig. 4's procedure (`smoothing_fig4.tune`) with
 min(runs, 100) runs per pair: read from ``smoothing_fig4.json`` in the output directory when that file
 was made with the same settings, recomputed otherwise (the JSON says which). The tuning runs use other
-seeds than the runs compared here.
+seeds than the runs compared here. The SMS estimates are read from ``smoothing_fig3_runs.npz`` when Fig. 3
+was run with the same runs and seed (the same data sets and the same certified hulls; `setsmooth
+figures` runs Fig. 3 first), computed otherwise (the JSON says which).
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ from setsmooth import montecarlo
 
 import _smoothing_examples as ex
 from _outputs import DEFAULT_OUT, Stopwatch, cli, finish, row
+import smoothing_fig3
 import smoothing_fig4
 
 NAME = "smoothing_fig5"
@@ -76,9 +79,11 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
     clock = Stopwatch()
     out = Path(out) if out is not None else DEFAULT_OUT
     tuned = rts_tuning(runs, seed, out, q_grid, r_grid, workers, progress, executor)
-    results = montecarlo.run(functools.partial(trial, q=tuned["q"], r=tuned["r"]), runs, seed,
-                             executor=executor, progress=progress, workers=workers)
-    errors = {key: np.array([res[key] for res in results]) for key in ("sms", "rts", "rts_paper_pair")}
+    errors, sms_source = _from_fig3_runs(out, runs, seed, tuned, executor, progress, workers)
+    if errors is None:
+        results = montecarlo.run(functools.partial(trial, q=tuned["q"], r=tuned["r"]), runs, seed,
+                                 executor=executor, progress=progress, workers=workers)
+        errors = {key: np.array([res[key] for res in results]) for key in ("sms", "rts", "rts_paper_pair")}
     mse_sms, mse_rts, mse_rts_paper = (errors[key].mean(axis=0) for key in ("sms", "rts", "rts_paper_pair"))
     gap, gap_se = _paired_gap(errors["sms"], errors["rts"])
     gap_paper, gap_paper_se = _paired_gap(errors["sms"], errors["rts_paper_pair"])
@@ -104,6 +109,7 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
         "rows": rows,
         "settings": {"runs": runs, "seed": seed, "T": ex.T, "x0_set": ex.X0_LINEAR,
                      "sms_point_estimate": "centre of the interval hull of the smoothed range (center())",
+                     "sms_source": sms_source,
                      "smoother": "optimal_smoother(method='trajectory') = the sets of Algorithm 1 / (24)",
                      "rts_prior": {"mean": ex.rts_prior()[0], "P0": ex.rts_prior()[1]},
                      "rts_tuning": tuned,
@@ -120,6 +126,35 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
         "k": k, "mse_sms": mse_sms, "mse_rts": mse_rts, "mse_rts_paper_pair": mse_rts_paper
     }
     return finish(out, NAME, PAPER, _plot(k, mse_sms, mse_rts, tuned, runs), data, clock)
+
+
+def rts_trial(rng: np.random.Generator, q: float, r: float) -> dict:
+    """The true states and the RTS squared errors of one run (the SMS errors come from Fig. 3's hulls)."""
+    system, X0 = ex.linear_system(), ex.linear_x0()
+    xs, ys = ss.simulate(system, X0, ex.T, rng)
+    return {"x": xs, "rts": smoothing_fig4.rts_squared_errors(system, xs, ys, q, r),
+            "rts_paper_pair": smoothing_fig4.rts_squared_errors(system, xs, ys, *ex.PAPER_BEST_QR)}
+
+
+def _from_fig3_runs(out: Path, runs: int, seed: int, tuned: dict, executor, progress, workers):
+    """Squared errors with the SMS estimates read from Fig. 3's saved runs, or (None, reason).
+
+    Fig. 3 smooths the same seeded data sets (same seed and run count give the same `montecarlo`
+    streams) and keeps the certified smoothed hulls; the SMS estimate here is their centre. The true
+    states are simulated again and must match the saved ones exactly, else everything is recomputed.
+    """
+    saved = smoothing_fig3.load_runs(out, runs, seed)
+    if saved is None:
+        return None, "computed (no smoothing_fig3 runs with these settings)"
+    results = montecarlo.run(functools.partial(rts_trial, q=tuned["q"], r=tuned["r"]), runs, seed,
+                             executor=executor, progress=progress, workers=workers)
+    xs = np.array([res["x"] for res in results])
+    if not np.array_equal(xs, saved["x"]):
+        return None, "computed (smoothing_fig3 runs saved for other data)"
+    centres = (saved["smoothed_lo"] + saved["smoothed_hi"]) / 2
+    errors = {"sms": ((centres - xs) ** 2).sum(axis=2),
+              **{key: np.array([res[key] for res in results]) for key in ("rts", "rts_paper_pair")}}
+    return errors, f"centres of the certified smoothed hulls in {smoothing_fig3.RUNS_FILE} (same data sets)"
 
 
 def _paired_gap(errors_a: np.ndarray, errors_b: np.ndarray) -> tuple[float, float]:

@@ -41,6 +41,7 @@ import scipy.sparse as sp
 from ._validation import as_measurements
 from .sets.base import ConvexSet
 from .sets.constrained_zonotope import ConstrainedZonotope
+from .solvers.factor_set import FactorConstraints
 from .trajectory_program import TrajectorySet
 
 __all__ = ["trajectory_set", "filtering_map", "TrajectorySet"]
@@ -262,9 +263,28 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
     G = sp.csc_matrix((np.ones(n_states), (np.arange(n_states), np.arange(n_states))),
                       shape=(n_states, n_factors))
     h = np.concatenate([np.full(n_states, np.inf), Z0.h, np.tile(Zw.h, steps), np.tile(Zv.h, steps + 1)])
-    trajectories = ConstrainedZonotope._trusted(G, nominal.reshape(-1), A_matrix, b, h)
-    trajectories.factors  # created now, so that every projection shares one factor set
-    return trajectories
+    # The factor set is created now, so that every projection shares one.
+    return ConstrainedZonotope._trusted(G, nominal.reshape(-1), A_matrix, b, h,
+                                        TrajectoryFactors(A_matrix, b, h))
+
+
+class TrajectoryFactors(FactorConstraints):
+    """The factor set of a trajectory CZ: its free factors are the states, in time order.
+
+    Every row couples neighbouring times only, so the states' Gram matrix A_FᵀA_F is banded and the
+    bound on the free factors that certified support values need costs O(length) instead of the
+    dense eigenvalue problem (`trajectory_certificate`); the dense bound remains the fallback.
+    """
+
+    def free_bound(self) -> float | None:
+        if self._free_bound is None:
+            from .trajectory_certificate import banded_free_factor_bound
+
+            bound = banded_free_factor_bound(self.A, self.b, self.h)
+            if bound is None:
+                return super().free_bound()
+            self._free_bound = (bound,)
+        return self._free_bound[0]
 
 
 def _dense(M) -> np.ndarray:

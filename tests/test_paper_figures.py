@@ -164,3 +164,17 @@ def test_figure_json_names_its_paper(figures, tmp_path):
     figures("smoothing_fig6").main(runs=2, out=tmp_path, **small())
     saved = written(tmp_path, "smoothing_fig6")
     assert saved["paper"] == "smoothing" and saved["wall_time_s"] >= 0
+
+
+def test_fig5_reads_fig3s_smoothed_hulls_and_gets_the_same_numbers(figures, tmp_path):
+    fig3, fig5 = figures("smoothing_fig3"), figures("smoothing_fig5")
+    grid = {"q_grid": TINY_GRID, "r_grid": TINY_GRID}
+    alone = fig5.main(runs=2, out=tmp_path / "alone", **small(**grid))
+    assert alone["settings"]["sms_source"].startswith("computed")
+    fig3.main(runs=2, out=tmp_path / "both", **small())
+    reused = fig5.main(runs=2, out=tmp_path / "both", **small(**grid))
+    assert reused["settings"]["sms_source"].startswith("centres of the certified smoothed hulls")
+    np.testing.assert_allclose(reused["mse_sms"], alone["mse_sms"], rtol=1e-9, atol=1e-12)
+    np.testing.assert_array_equal(reused["mse_rts"], alone["mse_rts"])
+    # Other settings: the saved runs are not used.
+    assert fig3.load_runs(tmp_path / "both", 3, 3) is None and fig3.load_runs(tmp_path / "both", 2, 4) is None

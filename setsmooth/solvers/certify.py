@@ -42,7 +42,8 @@ def gamma(n: int | np.ndarray) -> np.ndarray:
     return nu / (1.0 - nu)
 
 
-def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray) -> float | None:
+def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray,
+                      lam_min: float | None = None) -> float | None:
     """A rigorous bound β ≥ max_{ξ ∈ F} ‖ξ_F‖∞ on the free factors, or None when none is found.
 
     Parameters
@@ -50,6 +51,10 @@ def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray) -> float |
     A : csc_matrix, shape (nc, ng)
     b : ndarray, shape (nc,)
     h : ndarray, shape (ng,)
+    lam_min : float, optional
+        A rigorous lower bound on λ_min(A_FᵀA_F) of the exact data, computed by the caller (e.g. by
+        a shifted banded Cholesky for trajectory sets, `setsmooth.trajectories`); replaces the dense
+        eigenvalue computation and its size limit.
 
     Returns
     -------
@@ -66,14 +71,15 @@ def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray) -> float |
     free = np.flatnonzero(~np.isfinite(h))
     if free.size == 0:
         return 0.0
-    if free.size > FREE_BOUND_DENSE_MAX:
+    if lam_min is None and free.size > FREE_BOUND_DENSE_MAX:
         return None
     AF = A[:, free]
-    gram = (AF.T @ AF).toarray()
-    absAF = abs(AF)
-    gram_err = float(gamma(A.shape[0] + 2) * np.linalg.norm((absAF.T @ absAF).toarray()))
-    eig_err = 8.0 * free.size * _U * np.linalg.norm(gram)
-    lam_min = float(np.linalg.eigvalsh(gram)[0]) - gram_err - eig_err
+    if lam_min is None:
+        gram = (AF.T @ AF).toarray()
+        absAF = abs(AF)
+        gram_err = float(gamma(A.shape[0] + 2) * np.linalg.norm((absAF.T @ absAF).toarray()))
+        eig_err = 8.0 * free.size * _U * np.linalg.norm(gram)
+        lam_min = float(np.linalg.eigvalsh(gram)[0]) - gram_err - eig_err
     if not lam_min > 0:
         return None
     # Only the rows that see a free factor constrain it: A_RF ξ_F = b_R − A_RB ξ_B, and σ_min(A_RF) =

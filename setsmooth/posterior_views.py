@@ -1,0 +1,137 @@
+"""The exact filter's posteriors as views of one trajectory set: O(T) memory for all of them.
+
+The posterior ⟦x_k | y_{0:k}⟧ is the last projection of the trajectories 0..k consistent with y_{0:k}
+(stability paper (7), smoothing paper Theorem 1 with T = k). In the sparse trajectory CZ of
+`setsmooth.trajectories` those trajectories are a *prefix* of the trajectories 0..T: the factors and
+rows of times 0..k, in the same order. So the posteriors of one data set share one assembled
+trajectory CZ, and each posterior is a `PosteriorView` that holds only its time k.
+
+Why not the recursion's CZs (stability (20)–(21))? There the states are eliminated, and each
+measurement row C_k G_k is dense over every earlier factor: O(k²) nonzeros per posterior, O(T³) memory
+and time over a data set (2.9 GB and 0.3 s per step at T = 400 on example (31)). With the states kept as
+free factors every row couples neighbouring times only: O(k) nonzeros per posterior, and the O(k)-sized
+matrices of one posterior exist only while it is being queried (its prefix is cut out of the shared
+trajectory CZ and kept in the bounded per-thread cache of `solvers.instances`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from .sets.constrained_zonotope import ConstrainedZonotope
+from .solvers.instances import cached_instance
+
+__all__ = ["PosteriorView", "posterior_views"]
+
+
+class _SharedTrajectories:
+    """The trajectories 0..T of one data set (one sparse CZ) and the index layout of its prefixes."""
+
+    def __init__(self, system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope,
+                 Zv: ConstrainedZonotope, ys: np.ndarray):
+        from .trajectories import _assemble
+
+        T = ys.shape[0] - 1
+        self.n, self.T = system.n, T
+        full = _assemble(system, Z0, Zw, Zv, ys, 0, T)
+        self.A = sp.csr_matrix(full.A)  # rows are cut first, then columns
+        self.b, self.h, self.nominal = full.b, full.h, full.c.reshape(T + 1, system.n)
+        n, m = system.n, system.m
+        # The layout of `trajectories._assemble`: columns [states | ξ_Z | ξ_w,0..T−1 | ξ_v,0..T],
+        # rows [A_Z | A_w × T | A_v × (T+1) | x_0 − G_Z ξ_Z | dynamics × T | measurements × (T+1)].
+        col_x0 = n * (T + 1)
+        col_w = col_x0 + Z0.ng
+        col_v = col_w + T * Zw.ng
+        row_w = Z0.nc
+        row_v = row_w + T * Zw.nc
+        row_x0 = row_v + (T + 1) * Zv.nc
+        row_dyn = row_x0 + n
+        row_meas = row_dyn + T * n
+        # (start, length at k = 0, growth per step) of every block, in order.
+        self._col_blocks = [(0, n, n), (col_x0, Z0.ng, 0), (col_w, 0, Zw.ng), (col_v, Zv.ng, Zv.ng)]
+        self._row_blocks = [(0, row_w, 0), (row_w, 0, Zw.nc), (row_v, Zv.nc, Zv.nc), (row_x0, n, 0),
+                            (row_dyn, 0, n), (row_meas, m, m)]
+
+    @staticmethod
+    def _indices(blocks: list, k: int) -> np.ndarray:
+        return np.concatenate([np.arange(start, start + size + k * growth)
+                               for start, size, growth in blocks])
+
+    def trajectories(self, k: int) -> ConstrainedZonotope:
+        """The trajectory CZ over 0..k: exactly `trajectories._assemble` over 0..k, cut out."""
+        from .trajectories import TrajectoryFactors
+
+        rows, cols = self._indices(self._row_blocks, k), self._indices(self._col_blocks, k)
+        A = sp.csc_matrix(self.A[rows][:, cols])
+        A.sort_indices()
+        b, h = self.b[rows], self.h[cols]
+        n_states = self.n * (k + 1)
+        G = sp.csc_matrix((np.ones(n_states), (np.arange(n_states), np.arange(n_states))),
+                          shape=(n_states, cols.size))
+        return ConstrainedZonotope._trusted(G, self.nominal[: k + 1].reshape(-1), A, b, h,
+                                            TrajectoryFactors(A, b, h))
+
+    def posterior(self, k: int) -> ConstrainedZonotope:
+        """⟦x_k | y_{0:k}⟧: the projection on x_k of the trajectories 0..k."""
+        traj = self.trajectories(k)
+        return traj._project(np.arange(k * self.n, (k + 1) * self.n))
+
+
+class PosteriorView(ConstrainedZonotope):
+    """⟦x_k | y_{0:k}⟧ of the exact filter as a view of the data set's shared trajectory CZ.
+
+    A `ConstrainedZonotope` (the projection on x_k of the trajectories 0..k; the states are free
+    factors) whose matrices are cut out of the shared trajectory CZ when the set is queried and kept
+    only in the bounded per-thread cache of `solvers.instances`: a list of T posteriors holds O(T)
+    memory, not O(T²). Immutable and picklable like every set; answers are those of the materialized
+    CZ (certified support values included).
+
+    Parameters
+    ----------
+    shared : _SharedTrajectories
+        The data set's trajectories 0..T (made by `posterior_views`).
+    k : int
+        The time of the posterior.
+    """
+
+    def __init__(self, shared: _SharedTrajectories, k: int):
+        self._shared, self.k = shared, int(k)
+        self.dim = shared.n
+
+    def _materialized(self) -> ConstrainedZonotope:
+        return cached_instance(self, "posterior", lambda: self._shared.posterior(self.k))
+
+    # The representation, read through the materialized CZ (never stored on the view).
+    G = property(lambda self: self._materialized().G)
+    c = property(lambda self: self._materialized().c)
+    A = property(lambda self: self._materialized().A)
+    b = property(lambda self: self._materialized().b)
+    h = property(lambda self: self._materialized().h)
+    _factors = property(lambda self: self._materialized().factors)
+    factors = property(lambda self: self._materialized().factors)
+    _program = property(lambda self: self._materialized()._program)
+
+    def __repr__(self) -> str:
+        return f"PosteriorView(k={self.k}, dim={self.dim})"
+
+
+def posterior_views(system, X0: ConstrainedZonotope, ys: np.ndarray) -> list[PosteriorView]:
+    """The exact posteriors ⟦x_k | y_{0:k}⟧, k = 0..T, as views of one trajectory CZ.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        W and V flatten to constrained zonotopes.
+    X0 : ConvexSet
+        Flattens to a constrained zonotope.
+    ys : ndarray, shape (T+1, m)
+        Validated measurements.
+
+    Returns
+    -------
+    list of PosteriorView
+    """
+    shared = _SharedTrajectories(system, X0.to_constrained_zonotope(), system.W.to_constrained_zonotope(),
+                                 system.V.to_constrained_zonotope(), ys)
+    return [PosteriorView(shared, k) for k in range(ys.shape[0])]
