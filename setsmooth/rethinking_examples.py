@@ -27,7 +27,8 @@ from .sets.box import Box
 from .systems import LinearSystem
 
 __all__ = ["RETHINKING_27_X0", "RETHINKING_27_W", "RETHINKING_27_V", "eta_27", "v_given_w_27",
-           "rethinking_example_27", "RETHINKING_30_X0", "RETHINKING_30_W", "RETHINKING_30_V",
+           "rethinking_example_27", "optimal_ranges_27",
+           "RETHINKING_30_X0", "RETHINKING_30_W", "RETHINKING_30_V",
            "rethinking_example_30", "rethinking_example_30_x0", "rethinking_example_30_joint_range"]
 
 #: ⟦x_0⟧, ⟦w_k⟧ and ⟦v_k⟧ of example (27)–(28) as (lo, hi).
@@ -87,6 +88,49 @@ def rethinking_example_27() -> ScalarRelatedNoiseSystem:
                                     measurement_interval=_measurement_interval_28,
                                     x0_range=RETHINKING_27_X0, w_range=RETHINKING_27_W,
                                     v_range=RETHINKING_27_V, v_given_w=v_given_w_27)
+
+
+def optimal_ranges_27(ys) -> tuple[np.ndarray, np.ndarray]:
+    """The exact optimal ranges ⟦x_k | y_{0:k}⟧ of (27)–(28) in closed form (our reading of ⟦v_k | w_{k−1}⟧).
+
+    From the range [a, b] at k − 1 and y_k > 0: x_k = η(x) + w with x ∈ [a, b], w ∈ [0, 1], x_k ≤ y_k
+    (v_k ≥ 1) and w ≤ 2 − y_k/x_k (v_k ≤ 2 − w). As η is continuous and increasing, such x and w exist iff
+    max(0, x_k − η(b)) ≤ min(1, x_k − η(a), 2 − y_k/x_k), that is
+
+        x_k ∈ [max(η(a), y_k/2, r₁), min(η(b) + 1, y_k, r₂)],  r₁,₂ the roots of x² − (2 + η(b)) x + y_k
+
+    (the last condition is x + y_k/x ≤ 2 + η(b)). At k = 0: [max(0, y_0/2), min(1, y_0)]. An exact
+    reference for Algorithm 2's inner approximation (Fig. 2); Algorithm 2 itself applies to any
+    `ScalarRelatedNoiseSystem`.
+
+    Parameters
+    ----------
+    ys : array_like, shape (T+1,) or (runs, T+1)
+        Positive measurements (x_k > 0 after k = 0 whenever x_0 > 0).
+
+    Returns
+    -------
+    lo, hi : ndarray, shape (runs, T+1)
+        NaN from the first empty range on.
+
+    Examples
+    --------
+    >>> lo, hi = optimal_ranges_27([1.0, 2.0])
+    >>> lo.round(6).tolist(), hi.round(6).tolist()
+    [[0.5, 1.0], [1.0, 2.0]]
+    """
+    ys = np.atleast_2d(np.asarray(ys, dtype=float))
+    lo, hi = np.full(ys.shape, np.nan), np.full(ys.shape, np.nan)
+    lo[:, 0], hi[:, 0] = np.maximum(0.0, ys[:, 0] / 2), np.minimum(1.0, ys[:, 0])
+    for k in range(1, ys.shape[1]):
+        y, eb = ys[:, k], eta_27(hi[:, k - 1])
+        with np.errstate(invalid="ignore"):
+            root = np.sqrt((2 + eb) ** 2 - 4 * y)          # NaN: no x with x + y/x ≤ 2 + η(b)
+            lo[:, k] = np.maximum.reduce([eta_27(lo[:, k - 1]), y / 2, ((2 + eb) - root) / 2])
+            hi[:, k] = np.minimum.reduce([eb + 1, y, ((2 + eb) + root) / 2])
+            empty = ~(lo[:, k] <= hi[:, k])
+        lo[empty, k], hi[empty, k] = np.nan, np.nan
+    return lo, hi
 
 
 def rethinking_example_30() -> LinearSystem:

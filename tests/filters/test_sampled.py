@@ -14,21 +14,22 @@ import numpy as np
 import pytest
 
 import setsmooth as ss
-from setsmooth.rethinking_examples import eta_27, rethinking_example_27
+from setsmooth.rethinking_examples import eta_27, optimal_ranges_27, rethinking_example_27
 
 SYSTEM = rethinking_example_27()
 ROUND = 1e-12      # relative rounding slack when comparing endpoints computed two ways
 
 
 def exact_step(a, b, y):
-    """The exact optimal range at k from the range [a, b] at k − 1 (y > 0), or None when empty."""
+    """The exact range at k from [a, b] at k − 1 (y > 0) in closed form (module docstring)."""
+    lo, hi = optimal_ranges_27_from(a, b, y)
+    return lo, hi
+
+
+def optimal_ranges_27_from(a, b, y):
     eb = eta_27(b)
-    disc = (2 + eb) ** 2 - 4 * y
-    if disc < 0:
-        return None
-    r1, r2 = ((2 + eb) - np.sqrt(disc)) / 2, ((2 + eb) + np.sqrt(disc)) / 2
-    lo, hi = max(eta_27(a), y / 2, r1), min(eb + 1, y, r2)
-    return (lo, hi) if lo <= hi else None
+    root = np.sqrt((2 + eb) ** 2 - 4 * y)
+    return max(eta_27(a), y / 2, ((2 + eb) - root) / 2), min(eb + 1, y, ((2 + eb) + root) / 2)
 
 
 def exact_filter(ys):
@@ -37,6 +38,29 @@ def exact_filter(ys):
     for k in range(1, len(ys)):
         lo[k], hi[k] = exact_step(lo[k - 1], hi[k - 1], ys[k])
     return lo, hi
+
+
+def test_closed_form_optimal_step_matches_a_dense_grid_of_the_definition():
+    """(29) by brute force: every (x_{k−1}, w) of a 1500² grid, kept when y/x_k ∈ [1, 2 − w]."""
+    rng = np.random.default_rng(12)
+    for _ in range(5):
+        a = rng.uniform(0, 2)
+        b = a + rng.uniform(0.05, 1)
+        x_true = eta_27(rng.uniform(a, b)) + rng.uniform(0, 1)
+        y = x_true * rng.uniform(1, 1.5)
+        xp, w = np.meshgrid(np.linspace(a, b, 1500), np.linspace(0, 1, 1500))
+        x = eta_27(xp) + w
+        kept = x[(y / x >= 1) & (y / x <= 2 - w)]
+        lo, hi = exact_step(a, b, y)
+        assert lo <= kept.min() + 1e-12 and kept.max() <= hi + 1e-12
+        assert kept.min() - lo < 2e-3 * (hi - lo) + 1e-3 and hi - kept.max() < 2e-3 * (hi - lo) + 1e-3
+
+
+def test_library_closed_form_matches_this_one():
+    xs, ys = SYSTEM.simulate(12, np.random.default_rng(13), runs=10)
+    lo, hi = optimal_ranges_27(ys)
+    for run in range(10):
+        assert np.allclose(np.array(exact_filter(ys[run])), np.array([lo[run], hi[run]]), rtol=1e-13)
 
 
 def inside(inner_lo, inner_hi, outer_lo, outer_hi):
