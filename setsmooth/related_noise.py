@@ -66,7 +66,7 @@ class JointRange:
     ...                                           ss.Box([-1], [1]), T=3)
     >>> J.dim, list(J.w_dims(2))
     (9, [4])
-    >>> round(J.set.support([0, 0, 1, -1, 0, 0, 0, 0, 0]), 9)   # w_0 − w_1 = 0 on the whole range
+    >>> round(J.set.support([0, 0, 1, -1, 0, 0, 0, 0, 0]), 9) + 0.0   # w_0 − w_1 = 0 on the range
     0.0
     """
 

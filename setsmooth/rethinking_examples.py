@@ -117,7 +117,7 @@ def optimal_ranges_27(ys) -> tuple[np.ndarray, np.ndarray]:
     --------
     >>> lo, hi = optimal_ranges_27([1.0, 2.0])
     >>> lo.round(6).tolist(), hi.round(6).tolist()
-    [[0.5, 1.0], [1.0, 2.0]]
+    ([[0.5, 1.0]], [[1.0, 2.0]])
     """
     ys = np.atleast_2d(np.asarray(ys, dtype=float))
     lo, hi = np.full(ys.shape, np.nan), np.full(ys.shape, np.nan)

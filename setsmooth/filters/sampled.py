@@ -100,7 +100,7 @@ def classical_interval_filter(system: ScalarRelatedNoiseSystem, ys: Any) -> Inte
     --------
     >>> from setsmooth.rethinking_examples import rethinking_example_27
     >>> r = classical_interval_filter(rethinking_example_27(), [1.0, 2.0])
-    >>> r.lo.tolist(), [round(v, 6) for v in r.hi]     # [0.5, 1] ∩ [0, 1], then [1, 2] ∩ [η(0.5), η(1) + 1]
+    >>> r.lo.tolist(), [round(float(v), 6) for v in r.hi]     # [0.5, 1] ∩ [0, 1], then [1, 2] ∩ [η(0.5), η(1) + 1]
     ([0.5, 1.0], [1.0, 2.0])
     """
     if not isinstance(system, ScalarRelatedNoiseSystem):
