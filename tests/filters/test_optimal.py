@@ -59,23 +59,32 @@ def trajectory_maps(system, joint, k):
 
 
 def oracle_polygon(system, joint, lo, hi, E, e, H, h, ys, k):
-    """Vertices of ⟦x_k | y_{0:k}⟧ by vertex enumeration of {ξ ∈ [lo, hi] : Eξ = e, Hξ ≤ h, data}."""
+    """Vertices of ⟦x_k | y_{0:k}⟧ by vertex enumeration of {ξ ∈ [lo, hi] : Eξ = e, Hξ ≤ h, data}.
+
+    Only the coordinates of ξ that x_0..x_k and y_0..y_k involve (x_0, w_{0:k−1}, v_{0:k}) are kept; the
+    relation rows must not involve the others. Every choice of d − r inequality rows active is solved
+    with the r equalities (one batched solve of the nonsingular square systems), the feasible solutions
+    are the vertices, and their images x_k are hulled.
+    """
     maps, meas = trajectory_maps(system, joint, k)
-    dim = joint.dim
-    Aeq = np.vstack([E] + meas)
+    cols = list(joint.x0_dims()) + [i for l in range(k) for i in joint.w_dims(l)] + \
+        [i for l in range(k + 1) for i in joint.v_dims(l)]
+    others = np.setdiff1d(np.arange(joint.dim), cols)
+    E = E[~np.any(E[:, others] != 0, axis=1)] if E.size else E
+    e = e[:E.shape[0]]
+    Aeq = np.vstack([E[:, cols]] + [M[:, cols] for M in meas])
     beq = np.concatenate([e] + [ys[l] for l in range(k + 1)])
-    Ain = np.vstack([np.eye(dim), -np.eye(dim), H])
-    bin_ = np.concatenate([hi, -lo, h])
-    r = np.linalg.matrix_rank(Aeq)
-    points = []
-    for rows in itertools.combinations(range(Ain.shape[0]), dim - r):
-        M = np.vstack([Aeq, Ain[list(rows)]])
-        if np.linalg.matrix_rank(M) < dim:
-            continue
-        xi = np.linalg.lstsq(M, np.concatenate([beq, bin_[list(rows)]]), rcond=None)[0]
-        if np.all(Ain @ xi <= bin_ + 1e-9) and np.allclose(Aeq @ xi, beq, atol=1e-9):
-            points.append(maps[k] @ xi)
-    points = np.array(points)
+    dim = len(cols)
+    Ain = np.vstack([np.eye(dim), -np.eye(dim), H[:, cols]])
+    bin_ = np.concatenate([hi[cols], -lo[cols], h])
+    r = Aeq.shape[0]
+    combos = np.array(list(itertools.combinations(range(Ain.shape[0]), dim - r)))
+    M = np.concatenate([np.broadcast_to(Aeq, (len(combos), r, dim)), Ain[combos]], axis=1)
+    rhs = np.concatenate([np.broadcast_to(beq, (len(combos), r)), bin_[combos]], axis=1)
+    regular = np.abs(np.linalg.det(M)) > 1e-9
+    xi = np.linalg.solve(M[regular], rhs[regular][..., None])[..., 0]
+    feasible = np.all(xi @ Ain.T <= bin_ + 1e-9, axis=1)
+    points = xi[feasible] @ maps[k][:, cols].T
     return points[ConvexHull(points).vertices]
 
 
@@ -256,3 +265,27 @@ def test_joint_range_errors_name_the_argument():
                           np.zeros((3, 1)))
     with pytest.raises(IndexError, match="w_k exists"):
         rethinking_example_30_joint_range(2).w_dims(2)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_optimal_posterior_under_random_halfspace_relations_matches_the_polytope_oracle(seed):
+    """A relation among all of ξ: the oracle is exact at k = T, where no coordinate is left out."""
+    rng = np.random.default_rng(200 + seed)
+    T = 3
+    system = ss.LinearSystem([[1.0, 0.3], [-0.2, 0.9]], rng.standard_normal((2, 1)), [[1.0, 0.5]], [[1.0]],
+                             W=ss.Box([-1.0], [1.0]), V=ss.Box([-1.0], [1.0]))
+    X0 = ss.Box([-3.0, -3.0], [3.0, 3.0])
+    joint = ss.JointRange.unrelated(X0, system.W, system.V, T)
+    lo = np.concatenate([X0.lo, -np.ones(T), -np.ones(T + 1)])
+    xi = rng.uniform(lo, -lo)
+    H = rng.standard_normal((3, joint.dim))
+    h = H @ xi + rng.uniform(0.1, 0.5, 3)
+    related = joint.restrict_halfspaces(H, h)
+    xs = [xi[:2]]
+    for k in range(T):
+        xs.append(system.step(k, xs[-1], xi[joint.w_dims(k)]))
+    ys = np.array([system.measure(k, xs[k], xi[joint.v_dims(k)]) for k in range(T + 1)])
+    vertices = oracle_polygon(system, joint, lo, -lo, np.zeros((0, joint.dim)), np.zeros(0), H, h, ys, T)
+    optimal = ss.optimal_filter(system, related, ys)[T]
+    assert optimal.support_many(DIRECTIONS) == pytest.approx(oracle_support(vertices), abs=1e-6)
+    assert optimal.contains(xs[T])
