@@ -7,7 +7,9 @@ approximation), the classical one from Algorithm 1 (`classical_interval_filter`)
 optimal ratio (the closed form `optimal_ranges_27`), which Algorithm 2 approaches from below. The paper's
 size is 10,000 runs × N = 10,000 (``--runs 10000``); the default is 300 runs with the paper's N. The runs
 are split in chunks of 50 filtered together (vectorised over runs and samples), one seeded generator per
-chunk, spread over the worker processes.
+chunk, spread over the worker processes. Measured at the paper's size (``--runs 10000 --workers 2``):
+464 CPU s in all (user + system), about 4 minutes on 2 idle cores (39.7 min of wall time on the shared
+2-core machine, which gave the job 19 % of a core); averaged ratio for k ≥ 5: 83.91 % ± 0.06 %.
 """
 
 from __future__ import annotations
