@@ -28,6 +28,12 @@ _EXPORTS = {
     **dict.fromkeys(["optimal_smoother", "interval_smoother"], ".smoothers"),
     **dict.fromkeys(["trajectory_set", "filtering_map"], ".trajectories"),
     "IntervalEstimates": ".intervals",
+    **dict.fromkeys(["JointRange", "ScalarRelatedNoiseSystem"], ".related_noise"),
+    **dict.fromkeys(["joint_trajectory_set", "optimal_filter", "optimal_joint_smoother",
+                     "augment_identical_process_noise"], ".filters.optimal"),
+    **dict.fromkeys(["sampled_optimal_filter", "classical_interval_filter", "SampledRanges"],
+                    ".filters.sampled"),
+    "rethinking_examples": ".rethinking_examples",
     "montecarlo": ".montecarlo",
     "paper_examples": ".paper_examples",
     "analysis": ".analysis",
@@ -46,6 +52,9 @@ __all__ = [
     "Rescale", "EliminateConstraints", "Girard", "Combastel", "IntervalHull", "CORA_GIRARD",
     "CORA_COMBASTEL",
     "analysis", "observation_set", "observation_information_set", "observation_information_tower",
+    "JointRange", "ScalarRelatedNoiseSystem", "joint_trajectory_set", "optimal_filter",
+    "optimal_joint_smoother", "augment_identical_process_noise", "sampled_optimal_filter",
+    "classical_interval_filter", "SampledRanges", "rethinking_examples",
 ]
 
 
@@ -79,3 +88,8 @@ if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
     from .solvers import SolverError
     from .systems import LinearSystem, NonlinearSystem, simulate
     from .trajectories import filtering_map, trajectory_set
+    from . import rethinking_examples
+    from .filters.optimal import (augment_identical_process_noise, joint_trajectory_set, optimal_filter,
+                                  optimal_joint_smoother)
+    from .filters.sampled import SampledRanges, classical_interval_filter, sampled_optimal_filter
+    from .related_noise import JointRange, ScalarRelatedNoiseSystem

@@ -1,0 +1,326 @@
+"""The exact optimal filter and smoother of a linear system whose x_0 and noises have a joint range.
+
+For x_{k+1} = A_k x_k + B_k w_k + u_k, y_k = C_k x_k + D_k v_k (rethinking (23)–(24)) and a convex joint
+range J = ⟦x_0, w_{0:T−1}, v_{0:T}⟧ (`setsmooth.related_noise.JointRange`), Theorem 1's optimal posterior
+⟦x_k | y_{0:k}⟧ is the set of x_k over all ξ ∈ J that reproduce y_{0:k}: the projection on x_k of the set
+of trajectories consistent with the data under J,
+
+    ⟦x_{0:k} | y_{0:k}⟧ = { (x_0, …, x_k) : ξ ∈ J,  x_0 = ξ_{x_0},  x_{l+1} = A_l x_l + B_l ξ_{w_l} + u_l,
+                                             y_l = C_l x_l + D_l ξ_{v_l} }                              (★)
+
+— the trajectory set of `setsmooth.trajectories` with J in place of X0 × W^k × V^{k+1}. The smoothed range
+⟦x_l | y_{0:T}⟧ is the projection of the same set with k = T. With J = `JointRange.unrelated(...)` this is
+the classical filter (Theorem 2); with any other J the classical posterior contains it (Theorem 3).
+
+When J flattens to a constrained zonotope Z(G_J, c_J, A_J, b_J, h_J), (★) is one sparse extended CZ, written
+like `trajectory_set` about the nominal trajectory x̄ (the noises at the centre c_J): factors s_0..s_k
+(state deviations, free) and η (J's factors), rows A_J η = b_J and
+
+    s_0 − G_{x_0} η                        = 0
+    s_{l+1} − A_l s_l − B_l G_{w_l} η       = 0
+    C_l s_l + D_l G_{v_l} η                 = y_l − D_l c_{v_l} − C_l x̄_l,
+
+where G_{x_0}, G_{w_l}, G_{v_l} are J's generator rows of those coordinates. For other J it is the lazy
+generalized intersection of ℝ^{n(k+1)} × J with the same rows (one CVXPY program).
+
+The paper's own construction for Section IV-B, state augmentation (33)–(35), is
+`augment_identical_process_noise`; the tests check that both give the same sets.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from .._validation import as_measurements
+from ..related_noise import JointRange
+from ..sets.algebra import cartesian_product
+from ..sets.base import ConvexSet
+from ..sets.box import Box
+from ..sets.constrained_zonotope import ConstrainedZonotope
+from ..sets.empty import EmptySet
+from ..sets.reals import Reals
+from ..systems import LinearSystem
+
+__all__ = ["joint_trajectory_set", "optimal_filter", "optimal_joint_smoother",
+           "augment_identical_process_noise"]
+
+
+def joint_trajectory_set(system, joint_range: JointRange, ys: Any, stop: int | None = None) -> ConvexSet:
+    """⟦x_{0:stop} | y_{0:stop}⟧: the trajectories consistent with y_0..y_stop under the joint range (★).
+
+    Parameters
+    ----------
+    system : LinearSystem
+        Its matrices (and input u) are used; its W and V are not (the joint range replaces them).
+    joint_range : JointRange
+        ⟦x_0, w_{0:T−1}, v_{0:T}⟧ with the system's n, p, q and T ≥ stop.
+    ys : array_like, shape (T'+1, m)
+        Measurements y_0.. (rows after ``stop`` are not used).
+    stop : int, optional
+        The last time k; defaults to the last row of ``ys``.
+
+    Returns
+    -------
+    ConvexSet
+        Of dimension n(stop + 1), coordinates l·n..(l+1)·n − 1 holding x_l: a sparse extended CZ when
+        the joint range flattens to one, else a lazy set.
+
+    Raises
+    ------
+    ValueError
+        When the joint range's n, p, q differ from the system's, ``stop`` lies outside
+        [0, min(T, len(ys) − 1)], or ``ys`` has the wrong shape.
+
+    Examples
+    --------
+    >>> import setsmooth as ss
+    >>> box = ss.Box([-1.0], [1.0])
+    >>> system = ss.LinearSystem([[1.0]], [[1.0]], [[1.0]], [[1.0]], W=box, V=box)
+    >>> J = ss.JointRange.identical_process_noise(ss.Box([-5.0], [5.0]), box, box, T=2)
+    >>> Z = ss.joint_trajectory_set(system, J, [[0.0], [0.0], [0.0]])
+    >>> Z.dim, round(Z.support([0.0, 0.0, 1.0]), 6)   # (x_0, x_1, x_2); x_2 ≤ y_2 + 1
+    (3, 1.0)
+    """
+    ys, stop = _check(system, joint_range, ys, stop)
+    cz = joint_range.set._flat_cz
+    if cz is None:
+        return _lazy(system, joint_range, ys, stop)
+    return _assemble(system, joint_range, cz, ys, stop)
+
+
+def optimal_filter(system, joint_range: JointRange, ys: Any, *, detect_empty: bool = True) -> list[ConvexSet]:
+    """The optimal posteriors ⟦x_k | y_{0:k}⟧, k = 0..T, under a joint range (rethinking Theorem 1).
+
+    Exact: ``posteriors[k]`` is the projection on x_k of `joint_trajectory_set` with stop = k.
+
+    Parameters
+    ----------
+    system : LinearSystem
+    joint_range : JointRange
+    ys : array_like, shape (T+1, m)
+        Measurements y_0..y_T (T ≤ the joint range's T).
+    detect_empty : bool
+        Return `EmptySet` from the first empty posterior on (the measurements contradict the joint
+        range). Emptiness is monotone in k, so this is one feasibility program on the last posterior
+        when the data are consistent.
+
+    Returns
+    -------
+    list of ConvexSet
+        Constrained zonotopes when the joint range flattens to one. Under
+        `JointRange.unrelated` they equal `classical_filter`'s posteriors (Theorem 2); otherwise
+        they are contained in them (Theorem 3).
+
+    Raises
+    ------
+    ValueError
+        As `joint_trajectory_set`.
+
+    Examples
+    --------
+    >>> import setsmooth as ss
+    >>> from setsmooth.rethinking_examples import (rethinking_example_30, rethinking_example_30_x0,
+    ...                                            rethinking_example_30_joint_range)
+    >>> system, X0 = rethinking_example_30(), rethinking_example_30_x0()
+    >>> ys = [[0.0], [0.5], [1.5], [3.0], [4.0]]
+    >>> optimal = ss.optimal_filter(system, rethinking_example_30_joint_range(4), ys)
+    >>> classical = ss.classical_filter(system, X0, ys)
+    >>> round(optimal[4].area(), 3), round(classical[4].area(), 3)     # Theorem 3: optimal ⊆ classical
+    (4.215, 5.375)
+    """
+    ys = as_measurements(ys, system.m)
+    _check(system, joint_range, ys, None)
+    n = system.n
+    posteriors = []
+    for k in range(ys.shape[0]):
+        trajectories = joint_trajectory_set(system, joint_range, ys, k)
+        posteriors.append(trajectories.project(range(k * n, (k + 1) * n)))
+    if detect_empty:
+        first = _first_empty(posteriors)
+        posteriors[first:] = [EmptySet(n) for _ in range(first, len(posteriors))]
+    return posteriors
+
+
+def optimal_joint_smoother(system, joint_range: JointRange, ys: Any) -> list[ConvexSet]:
+    """The optimal smoothed ranges ⟦x_k | y_{0:T}⟧, k = 0..T, under a joint range.
+
+    The projections on x_0..x_T of one set, `joint_trajectory_set` with stop = T (the smoothing paper's
+    Theorem 1 with the joint range in place of unrelated noises).
+
+    Parameters
+    ----------
+    system : LinearSystem
+    joint_range : JointRange
+    ys : array_like, shape (T+1, m)
+
+    Returns
+    -------
+    list of ConvexSet
+        Each inside the optimal posterior of the same k, equal to it at k = T; all empty when the data
+        contradict the joint range.
+
+    Raises
+    ------
+    ValueError
+        As `joint_trajectory_set`.
+    """
+    trajectories = joint_trajectory_set(system, joint_range, ys)
+    n = system.n
+    steps = trajectories.dim // n
+    if trajectories.is_empty():
+        return [EmptySet(n) for _ in range(steps)]
+    return [trajectories.project(range(k * n, (k + 1) * n)) for k in range(steps)]
+
+
+def augment_identical_process_noise(system, X0: ConvexSet) -> tuple[LinearSystem, ConvexSet]:
+    """Rethinking (33)–(35): the identical process noise w as extra states, x̄_k = [x_k; w].
+
+        x̄_{k+1} = [[A, B], [0, I]] x̄_k,   y_k = [C, 0] x̄_k + D v_k,   ⟦x̄_0⟧ = ⟦x_0⟧ × ⟦w⟧.
+
+    The classical filter of the augmented system (Corollary 1 with B = 0) is the optimal filter of
+    Section IV-B; its posteriors projected on the first n coordinates are ⟦x_k | y_{0:k}⟧.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        Time-invariant, without input; its W is ⟦w⟧ and V is ⟦v_k⟧.
+    X0 : ConvexSet
+        ⟦x_0⟧, of dimension n.
+
+    Returns
+    -------
+    augmented : LinearSystem
+        n + p states; its process-noise range is {0} (B = 0 of (35)).
+    prior : ConvexSet
+        ⟦x_0⟧ × ⟦w⟧.
+
+    Raises
+    ------
+    ValueError
+        When the system is time-varying or has an input, or X0 is not a set of dimension n.
+    """
+    if not isinstance(system, LinearSystem) or not system.is_time_invariant:
+        raise ValueError("system must be a time-invariant LinearSystem without input u")
+    if not isinstance(X0, ConvexSet) or X0.dim != system.n:
+        raise ValueError(f"X0 must be a ConvexSet of dimension n = {system.n}")
+    n, p = system.n, system.p
+    A = np.block([[system.A(0), system.B(0)], [np.zeros((p, n)), np.eye(p)]])
+    C = np.hstack([system.C(0), np.zeros((system.m, p))])
+    augmented = LinearSystem(A, np.zeros((n + p, 1)), C, system.D(0), W=Box([0.0], [0.0]), V=system.V)
+    return augmented, cartesian_product(X0, system.W)
+
+
+def _check(system, joint_range: JointRange, ys: Any, stop: int | None) -> tuple[np.ndarray, int]:
+    if not isinstance(joint_range, JointRange):
+        raise TypeError(f"joint_range must be a JointRange, got {type(joint_range).__name__}")
+    if (joint_range.n, joint_range.p, joint_range.q) != (system.n, system.p, system.q):
+        raise ValueError(f"joint_range has (n, p, q) = {(joint_range.n, joint_range.p, joint_range.q)} but "
+                         f"the system has {(system.n, system.p, system.q)}")
+    ys = as_measurements(ys, system.m)
+    last = min(joint_range.T, ys.shape[0] - 1)
+    if ys.shape[0] - 1 > joint_range.T:
+        raise ValueError(f"ys has {ys.shape[0]} rows (T = {ys.shape[0] - 1}) but joint_range covers only "
+                         f"k = 0..{joint_range.T}")
+    stop = last if stop is None else stop
+    if isinstance(stop, bool) or not isinstance(stop, (int, np.integer)) or not 0 <= stop <= last:
+        raise ValueError(f"stop must be an integer in [0, {last}], got {stop!r}")
+    return ys, int(stop)
+
+
+def _rows(system, joint_range: JointRange, ys: np.ndarray, stop: int):
+    """The rows of (★) in the variables (x_0..x_stop, ξ): M [x; ξ] = rhs (dense blocks, sparse result)."""
+    n = system.n
+    n_states = n * (stop + 1)
+    width = n_states + joint_range.dim
+    blocks, rhs = [], []
+
+    def select(dims) -> sp.csr_matrix:
+        dims = list(dims)
+        return sp.csr_matrix((np.ones(len(dims)), (np.arange(len(dims)), dims)), shape=(len(dims), width))
+
+    def state(l: int) -> sp.csr_matrix:
+        return select(range(l * n, (l + 1) * n))
+
+    shift = n_states
+    blocks.append(state(0) - select(shift + i for i in joint_range.x0_dims()))
+    rhs.append(np.zeros(n))
+    for l in range(stop):
+        blocks.append(state(l + 1) - system.A(l) @ state(l)
+                      - system.B(l) @ select(shift + i for i in joint_range.w_dims(l)))
+        rhs.append(system.input_term(l))
+    for l in range(stop + 1):
+        blocks.append(system.C(l) @ state(l) + system.D(l) @ select(shift + i for i in joint_range.v_dims(l)))
+        rhs.append(ys[l])
+    return sp.vstack(blocks).tocsr(), np.concatenate(rhs)
+
+
+def _lazy(system, joint_range: JointRange, ys: np.ndarray, stop: int) -> ConvexSet:
+    M, rhs = _rows(system, joint_range, ys, stop)
+    n_states = system.n * (stop + 1)
+    stacked = cartesian_product(Reals(n_states), joint_range.set)
+    consistent = stacked.intersect_preimage(M.toarray(), Box(rhs, rhs))
+    return consistent.project(range(n_states))
+
+
+def _assemble(system, joint_range: JointRange, cz: ConstrainedZonotope, ys: np.ndarray,
+              stop: int) -> ConstrainedZonotope:
+    n = system.n
+    n_states = n * (stop + 1)
+    G_J = sp.csr_matrix(cz.G)
+    c_J = cz.c
+    # Nominal trajectory x̄ (noises at the centre of J): the centre of the trajectory CZ.
+    nominal = np.empty((stop + 1, n))
+    nominal[0] = c_J[list(joint_range.x0_dims())]
+    for l in range(stop):
+        nominal[l + 1] = (system.A(l) @ nominal[l] + system.B(l) @ c_J[list(joint_range.w_dims(l))]
+                          + system.input_term(l))
+
+    def state(l: int) -> sp.csr_matrix:
+        return sp.csr_matrix((np.ones(n), (np.arange(n), np.arange(l * n, (l + 1) * n))), shape=(n, n_states))
+
+    def factors(dims) -> sp.csr_matrix:
+        return G_J[list(dims)]
+
+    rows_s, rows_eta, rhs = [], [], []
+    rows_s.append(state(0))
+    rows_eta.append(-factors(joint_range.x0_dims()))
+    rhs.append(np.zeros(n))
+    for l in range(stop):
+        rows_s.append(state(l + 1) - sp.csr_matrix(system.A(l)) @ state(l))
+        rows_eta.append(-sp.csr_matrix(system.B(l)) @ factors(joint_range.w_dims(l)))
+        rhs.append(np.zeros(n))
+    for l in range(stop + 1):
+        v = list(joint_range.v_dims(l))
+        rows_s.append(sp.csr_matrix(system.C(l)) @ state(l))
+        rows_eta.append(sp.csr_matrix(system.D(l)) @ factors(v))
+        rhs.append(ys[l] - system.D(l) @ c_J[v] - system.C(l) @ nominal[l])
+    A = sp.vstack([
+        sp.hstack([sp.csr_matrix((cz.nc, n_states)), sp.csr_matrix(cz.A)]),
+        sp.hstack([sp.vstack(rows_s), sp.vstack(rows_eta)]),
+    ]).tocsc()
+    A.eliminate_zeros()
+    b = np.concatenate([cz.b, *rhs])
+    G = sp.hstack([sp.identity(n_states, format="csc"), sp.csc_matrix((n_states, cz.ng))]).tocsc()
+    h = np.concatenate([np.full(n_states, np.inf), cz.h])
+    trajectories = ConstrainedZonotope._trusted(G, nominal.reshape(-1), A, b, h)
+    trajectories.factors  # created now, so that every projection shares one factor set
+    return trajectories
+
+
+def _first_empty(posteriors: list[ConvexSet]) -> int:
+    """Index of the first empty posterior, by bisection (emptiness is monotone in k: more data, fewer
+    consistent ξ)."""
+    last = len(posteriors) - 1
+    if not posteriors[last].is_empty():
+        return last + 1
+    lo, hi = 0, last
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if posteriors[mid].is_empty():
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo

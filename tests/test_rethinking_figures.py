@@ -1,0 +1,77 @@
+"""The rethinking paper's figure scripts, run small: they write their files and their numbers are sane."""
+
+from __future__ import annotations
+
+import importlib
+import json
+
+import numpy as np
+import pytest
+
+from setsmooth import cli
+
+
+@pytest.fixture
+def figures(monkeypatch):
+    """Import a figure script (or helper) of paper_figures/ by name."""
+    monkeypatch.syspath_prepend(str(cli.find_figures_dir()))
+    return importlib.import_module
+
+
+def small(**kw):
+    return {"seed": 5, "progress": False, "executor": "serial", **kw}
+
+
+def written(out, name):
+    assert (out / f"{name}.png").stat().st_size > 10_000
+    return json.loads((out / f"{name}.json").read_text())
+
+
+def test_fig1_law_of_total_range_and_bayes_rule_give_the_captions_intervals(figures, tmp_path):
+    figures("rethinking_fig1").main(out=tmp_path, **small())
+    saved = written(tmp_path, "rethinking_fig1")
+    assert saved["marginal_y"] == pytest.approx([1.0, 5.0], abs=1e-7)
+    assert saved["posterior"] == pytest.approx([1.0, 2.0], abs=1e-7)
+    assert saved["likelihoods"]["1.5"] == pytest.approx([1.5, 3.5], abs=1e-7)
+    assert saved["likelihoods"]["2.5"] == pytest.approx([2.5, 4.5], abs=1e-7)
+    assert saved["paper"] == "rethinking"
+
+
+def test_fig2_ratio_starts_at_one_and_algorithm2_stays_inside_both_ranges(figures, tmp_path):
+    fig2, ex = figures("rethinking_fig2"), figures("_rethinking_examples")
+    data = fig2.main(runs=6, out=tmp_path, n_samples=300, **small())
+    saved = written(tmp_path, "rethinking_fig2")
+    mean, exact = np.array(saved["mean_ratio"]), np.array(saved["mean_exact_ratio"])
+    assert mean.shape == (ex.FIG2_T + 1,) and mean[0] == pytest.approx(1.0)
+    assert np.all(mean <= exact + 1e-9) and np.all(exact <= 1 + 1e-9)       # inner approximation; Theorem 3
+    assert mean[ex.FIG2_STEADY_FROM:].mean() < 0.95                            # the relation does help
+    ours = {r["quantity"].split(" (")[0]: r["ours"] for r in data["rows"]}
+    assert ours["true state outside the classical range, of runs×(T+1)"].startswith("0 of")
+    assert any(r["paper"] == "≈ 84 %" for r in data["rows"])
+
+
+def test_fig3_optimal_polygons_are_inside_classical_ones_and_paper_values_are_placed(figures, tmp_path):
+    fig3, ex = figures("rethinking_fig3"), figures("_rethinking_examples")
+    data = fig3.main(runs=3, out=tmp_path, **small())
+    saved = written(tmp_path, "rethinking_fig3")
+    ratios = {k: np.array(v) for k, v in saved["area_ratios"].items()}
+    assert ratios["0"] == pytest.approx(1.0, abs=1e-6)
+    assert np.all(ratios["10"] < 1) and np.all(ratios["20"] < ratios["10"] + 0.5)
+    rows = {r["quantity"]: r["ours"] for r in data["rows"]}
+    assert rows["optimal posterior ⊆ classical posterior (Theorem 3): 64 support values, every run and k"] == "yes"
+    assert any("is at quantile" in r["ours"] and r["paper"].startswith("27.1") for r in data["rows"])
+    assert set(ex.PAPER_AREA_RATIOS) == {10, 20}
+
+
+def test_fig3_polygon_is_the_hull_of_the_boundary_points(figures):
+    import setsmooth as ss
+
+    fig3 = figures("rethinking_fig3")
+    square = ss.Box([149.0, -1.0], [150.0, 0.0])
+    assert fig3.area(fig3.polygon(square)) == pytest.approx(1.0, rel=1e-9)
+
+
+def test_rethinking_report_has_its_title_and_preamble(figures, tmp_path):
+    figures("rethinking_fig1").main(out=tmp_path, **small())
+    report = figures("report").main(tmp_path).read_text()
+    assert "## Rethinking paper" in report and "[1, 2 − w_(k−1)]" in report
