@@ -80,3 +80,8 @@ def gamma(k: int) -> float:
     """Higham's γ_k = k·u / (1 − k·u): relative error bound of a k-term floating-point dot product."""
     ku = k * UNIT_ROUNDOFF
     return ku / (1.0 - ku)
+
+#: Relative error (to the largest entry) assumed of each matrix exponential computed by
+#: `scipy.linalg.expm` when bounding a continuous-time noise integral (`setsmooth.discretization`);
+#: the bound uses the larger of this and the observed disagreement between e^{A jδ} and (e^{Aδ})^j.
+EXPM_RELATIVE_ERROR = 1e-13
