@@ -28,6 +28,8 @@ _EXPORTS = {
     **dict.fromkeys(["optimal_smoother", "interval_smoother"], ".smoothers"),
     **dict.fromkeys(["trajectory_set", "filtering_map"], ".trajectories"),
     "IntervalEstimates": ".intervals",
+    "SetEstimates": ".results",
+    "references": ".references",
     "montecarlo": ".montecarlo",
     "paper_examples": ".paper_examples",
 }
@@ -42,6 +44,7 @@ __all__ = [
     "reduce", "ReductionMethod", "DropZeros", "DropDependentConstraints", "MergeParallelGenerators",
     "Rescale", "EliminateConstraints", "Girard", "Combastel", "IntervalHull", "CORA_GIRARD",
     "CORA_COMBASTEL",
+    "SetEstimates", "references",
 ]
 
 
@@ -62,7 +65,9 @@ def __dir__() -> list[str]:
 if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
     from . import montecarlo, paper_examples
     from .filters import KalmanResult, classical_filter, interval_filter, kalman_filter, rts_smoother
+    from . import references
     from .intervals import IntervalEstimates
+    from .results import SetEstimates
     from .sets import (Box, CartesianProduct, ConstrainedZonotope, ConvexSet, Ellipsoid, EmptySet,
                        GeneralizedIntersection, HPolytope, Intersection, LinearMap, MinkowskiSum, Reals,
                        Zonotope)

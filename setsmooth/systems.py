@@ -248,7 +248,7 @@ class LinearSystem:
     @classmethod
     def from_statespace(cls, statespace, W: ConvexSet, V: ConvexSet, *, noise_inputs: Any = None,
                         inputs: Any = None, Psi: Any = None, dt: float | None = None,
-                        method: str | None = None, partition: int = 64) -> "LinearSystem":
+                        method: str | None = None, partition: int = 32) -> "LinearSystem":
         """Build from a `control.StateSpace` whose inputs are noises w and, optionally, known inputs.
 
         The plant is ẋ = A x + B_w w + B_u u (continuous) or x⁺ = A x + B_w w + B_u u (discrete),
@@ -297,7 +297,8 @@ class LinearSystem:
         method : {'bounded', 'zoh'}, optional
             Noise model of a continuous plant (above); must be None for a discrete one.
         partition : int
-            Pieces of [0, Δ] for 'bounded' (more: tighter, more generators; 64 by default).
+            Pieces of [0, Δ] for 'bounded': more is tighter, with more generators (the noise set has
+            ``partition`` copies of W's generators plus n; 32 by default).
 
         Returns
         -------

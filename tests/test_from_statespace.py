@@ -43,7 +43,7 @@ def worst_case_noise(A, B, dt, d, substeps=4000):
 
 
 def test_bounded_noise_set_encloses_the_exact_integral_and_is_tight():
-    _, R = bounded_noise_set(A_MSD, B_MSD, ss.Box([-1.0], [1.0]), DT)
+    _, R = bounded_noise_set(A_MSD, B_MSD, ss.Box([-1.0], [1.0]), DT, partition=64)
     lam, vecs = np.linalg.eig(A_MSD)  # e^{Aτ} b = V e^{Λτ} V⁻¹ b, cheap inside the quadrature
     coef = np.linalg.solve(vecs, B_MSD[:, 0])
     for theta in np.linspace(0.0, np.pi, 7):
