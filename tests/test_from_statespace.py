@@ -198,3 +198,18 @@ def test_simulate_uses_given_noise_sequences_and_checks_their_shape():
         ss.simulate(system, ss.Box([-1.0], [1.0]), 2, None, x0=[1.0], ws=[0, 0], vs=[0, np.inf, 0])
     with pytest.raises(TypeError, match="rng"):
         ss.simulate(system, ss.Box([-1.0], [1.0]), 2, None, x0=[1.0], ws=[0, 0])
+
+
+def test_sampling_time_is_validated_and_sets_the_tube_plot_time_axis():
+    box = ss.Box([-1.0], [1.0])
+    with pytest.raises(ValueError, match="dt must be a positive finite sampling time or None"):
+        ss.LinearSystem([[0.5]], [[1.0]], [[1.0]], [[1.0]], box, box, dt=-0.1)
+    system = ss.LinearSystem.from_statespace(control.ss([[0.5]], [[1.0]], [[1.0]], 0, 0.25), box, box)
+    filtered = ss.classical_filter(system, ss.Box([-2.0], [2.0]), [[0.0], [0.5], [1.0]])
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    (tube,) = filtered.plot_tubes()
+    assert np.allclose(np.unique(tube.get_paths()[0].vertices[:, 0]), [0.0, 0.25, 0.5])
+    assert tube.axes.get_xlabel() == "t"
+    plt.close("all")
