@@ -213,3 +213,29 @@ def test_sampling_time_is_validated_and_sets_the_tube_plot_time_axis():
     assert np.allclose(np.unique(tube.get_paths()[0].vertices[:, 0]), [0.0, 0.25, 0.5])
     assert tube.axes.get_xlabel() == "t"
     plt.close("all")
+
+
+@pytest.mark.parametrize("partition", [3, 32])
+def test_remainder_keeps_even_a_coarse_partition_sound(partition):
+    # with three pieces the zonotope part alone misses the switching increments: only the
+    # certified remainder box can hold them
+    _, R = bounded_noise_set(A_MSD, B_MSD, ss.Box([-1.0], [1.0]), DT, partition=partition)
+    without_remainder = ss.Zonotope(R.G[:, :-2], R.c)   # the last n generators are the box
+    missed = 0
+    for theta in np.linspace(0.0, np.pi, 6, endpoint=False):
+        d = np.array([np.cos(theta), np.sin(theta)])
+        increment = fine_increment(A_MSD, B_MSD, worst_case_noise(A_MSD, B_MSD, DT, d, 2000), DT)
+        assert R.contains(increment, tol=0.0)
+        missed += not without_remainder.contains(increment)
+    assert missed > 0 or partition > 3
+
+
+def test_noise_range_away_from_zero_is_enclosed_without_its_mirror_image():
+    A, B = np.array([[0.0, 1.0], [-4.0, -0.4]]), np.array([[0.0], [1.0]])
+    _, R = bounded_noise_set(A, B, ss.Box([0.5], [1.0]), 0.5, partition=8)
+    midpoints = (np.arange(400) + 0.5) / 400 * 0.5
+    switching = np.where(np.sin(40.0 * midpoints) > 0, 1.0, 0.5)   # w(t) ∈ [0.5, 1], switching
+    assert R.contains(fine_increment(A, B, switching, 0.5), tol=0.0)
+    Gamma = zoh_matrices(A, B, 0.5)[1]
+    assert R.contains(Gamma @ [0.5], tol=0.0) and R.contains(Gamma @ [1.0], tol=0.0)
+    assert not R.contains(Gamma @ [0.0]) and not R.contains(Gamma @ [-0.5])
