@@ -386,6 +386,7 @@ def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator | None,
     ws : array_like, shape (T, p), optional
         Given process noises w_0..w_{T-1} (e.g. a worst case, or a recorded disturbance), used as
         given: they are not checked against W, so a test can also drive an estimator off its model.
+        A given sequence is not drawn (the draws of the others keep their order).
     vs : array_like, shape (T+1, q), optional
         Given measurement noises v_0..v_T, likewise.
 
@@ -409,8 +410,7 @@ def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator | None,
     -----
     Uniform draws use each set's ``sample``: direct for boxes and ellipsoids, rejection from the
     interval hull (one membership LP per proposal) otherwise. All draws are made up front in a fixed
-    order (x_0, then w_0..w_{T-1}, then v_0..v_T, each skipped when given), so a seed fixes the
-    whole trajectory.
+    order (x_0, then w_0..w_{T-1}, then v_0..v_T), so a seed fixes the whole trajectory.
     """
     if isinstance(T, bool) or not isinstance(T, (int, np.integer)):
         raise TypeError(f"T must be a non-negative integer, got {T!r}")
