@@ -83,5 +83,5 @@ def gamma(k: int) -> float:
 
 #: Relative error (to the largest entry) assumed of each matrix exponential computed by
 #: `scipy.linalg.expm` when bounding a continuous-time noise integral (`setsmooth.discretization`);
-#: the bound uses the larger of this and the observed disagreement between e^{A jδ} and (e^{Aδ})^j.
+#: the bound uses the larger of this and the observed disagreement between e^{Aτ_j} and e^{Aδ/2}(e^{Aδ})^j.
 EXPM_RELATIVE_ERROR = 1e-13
