@@ -18,7 +18,7 @@ from setsmooth.paper_examples import (SMOOTHING_31_X0, SMOOTHING_33_V, SMOOTHING
 from _outputs import row
 
 PAPER = "smoothing"
-PAPER_TITLE = "Smoothing paper — Li, Cong, Zhou, Dong, *Optimal Set-Membership Smoothing*"
+PAPER_TITLE = f"Smoothing paper — {ss.references.cite('smoothing')}"  # authors, title, venue
 T = 50                              # k ∈ [0, T] in Figs. 3–6
 PAPER_RUNS = 5000                   # Monte Carlo size of Figs. 3, 5, 6
 PAPER_RUNS_PER_PAIR = 100           # Fig. 4

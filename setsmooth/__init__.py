@@ -34,6 +34,8 @@ _EXPORTS = {
     **dict.fromkeys(["sampled_optimal_filter", "classical_interval_filter", "SampledRanges"],
                     ".filters.sampled"),
     "rethinking_examples": ".rethinking_examples",
+    "SetEstimates": ".results",
+    "references": ".references",
     "montecarlo": ".montecarlo",
     "paper_examples": ".paper_examples",
     "analysis": ".analysis",
@@ -55,6 +57,7 @@ __all__ = [
     "JointRange", "ScalarRelatedNoiseSystem", "joint_trajectory_set", "optimal_filter",
     "optimal_joint_smoother", "augment_identical_process_noise", "sampled_optimal_filter",
     "classical_interval_filter", "SampledRanges", "rethinking_examples",
+    "SetEstimates", "references",
 ]
 
 
@@ -75,9 +78,11 @@ def __dir__() -> list[str]:
 if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
     from . import analysis, montecarlo, paper_examples
     from .filters import KalmanResult, classical_filter, interval_filter, kalman_filter, rts_smoother
+    from . import references
     from .intervals import IntervalEstimates
     from .observation_information import (observation_information_set, observation_information_tower,
                                           observation_set)
+    from .results import SetEstimates
     from .sets import (Box, CartesianProduct, ConstrainedZonotope, ConvexSet, Ellipsoid, EmptySet,
                        GeneralizedIntersection, HPolytope, Intersection, LinearMap, MinkowskiSum, Reals,
                        Zonotope)

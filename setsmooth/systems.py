@@ -129,6 +129,9 @@ class LinearSystem:
         Ranges of the process noise (dim p) and the measurement noise (dim q).
     u : array_like of shape (T, n), or callable k -> (n,), optional
         Known input term added to x_{k+1} (B_u u_k already multiplied out). None means no input.
+    dt : float, optional
+        Sampling time in seconds, when the steps sample a continuous-time plant (`from_statespace`
+        sets it); kept for time axes, not used by the estimators. None: unspecified.
 
     Raises
     ------
@@ -153,7 +156,7 @@ class LinearSystem:
     """
 
     def __init__(self, A: MatrixSpec, B: MatrixSpec, C: MatrixSpec, D: MatrixSpec,
-                 W: ConvexSet, V: ConvexSet, u: Any = None):
+                 W: ConvexSet, V: ConvexSet, u: Any = None, dt: float | None = None):
         for name, S in (("W", W), ("V", V)):
             if not isinstance(S, ConvexSet):
                 raise TypeError(f"{name} must be a ConvexSet, got {type(S).__name__}")
@@ -170,6 +173,9 @@ class LinearSystem:
         self.W, self.V = W, V
         self.n, self.m, self.p, self.q = n, m, W.dim, V.dim
         self._u = None if u is None else _InputTerm(u, n)
+        self.dt = None if dt is None else real_number(dt, "dt")
+        if self.dt is not None and not (np.isfinite(self.dt) and self.dt > 0):
+            raise ValueError(f"dt must be a positive finite sampling time or None, got {dt!r}")
         self._images: dict[str, ConvexSet] = {}
 
     # -- pickling: the cached noise images are recomputed on demand ------------------------------
@@ -240,40 +246,88 @@ class LinearSystem:
         return self.C(k) @ x + self.D(k) @ v
 
     @classmethod
-    def from_statespace(cls, statespace, W: ConvexSet, V: ConvexSet, *, D: Any = None,
-                        dt: float | None = None, method: str = "zoh") -> "LinearSystem":
-        """Build from a `control.StateSpace` whose input is the process noise.
+    def from_statespace(cls, statespace, W: ConvexSet, V: ConvexSet, *, noise_inputs: Any = None,
+                        inputs: Any = None, Psi: Any = None, dt: float | None = None,
+                        method: str | None = None, partition: int = 32) -> "LinearSystem":
+        """Build from a `control.StateSpace` whose inputs are noises w and, optionally, known inputs.
+
+        The plant is ẋ = A x + B_w w + B_u u (continuous) or x⁺ = A x + B_w w + B_u u (discrete),
+        y = C x, with B_w, B_u the columns of ``statespace.B`` selected by ``noise_inputs`` and the
+        others. The measurement is y_k = C x_k + Ψ v_k with v_k ∈ V.
+
+        A continuous model is sampled with period ``dt``; each ``method`` states what it assumes of
+        the noise and gives an enclosure exactly under that assumption:
+
+        * ``'bounded'`` (the default): w(t) ∈ W at every instant, any measurable signal (it may switch
+          sign inside a sample interval). The system is x_{k+1} = e^{AΔ} x_k + r_k + Γ_u u_k with
+          r_k in a sound outer bound of ∫_0^Δ e^{Aτ} B_w W dτ (`setsmooth.discretization.
+          bounded_noise_set`: a zonotope from ``partition`` pieces of the interval plus a certified
+          remainder box). Its B is the identity and its W that n-dimensional set.
+        * ``'zoh'``: w is constant on every sample interval, equal to w_k ∈ W there (a noise that
+          is itself sampled and held). B is ∫_0^Δ e^{Aτ} dτ B_w and W is unchanged. A noise that
+          varies inside an interval can leave this model: the filter may then lose the true state.
+
+        Known inputs are held constant over each sample interval (zero-order hold, a digital
+        controller's convention) in both modes. 'foh' and 'tustin' are not offered: Tustin's
+        rule is exact for no class of signals, so its sets would not enclose the increments, and a
+        first-order-hold noise stays in W at every instant, which 'bounded' covers.
 
         Parameters
         ----------
         statespace : control.StateSpace
-            x⁺ = A x + B w, y = C x. Its feedthrough must be zero (a w → y path would couple the two
-            noises, which the set-membership model treats as unrelated). A continuous-time model is
-            discretized with `control.c2d`.
-        W, V : ConvexSet
-            Ranges of the process noise (dim = number of inputs) and of the measurement noise.
-        D : array_like, optional
-            Measurement-noise matrix Ψ (m × V.dim); the identity by default.
+            Continuous or discrete. Its feedthrough D must be zero: from a noise input it would couple
+            w and v, which the set-membership model treats as unrelated; from a known input, subtract
+            D u_k from the measurements first.
+        W : ConvexSet
+            Range of the noise inputs (dim = len(noise_inputs)); bounded for 'bounded'.
+        V : ConvexSet
+            Range of the measurement noise v.
+        noise_inputs : sequence of int, optional
+            Indices of the statespace inputs that are noises w; the others are known inputs. None
+            (default): every input is a noise.
+        inputs : array_like of shape (T, number of known inputs), or callable k -> array, optional
+            Samples u_k of the known inputs (required when there are known inputs). The system's
+            known term is Γ_u u_k (`LinearSystem`'s ``u``).
+        Psi : array_like, optional
+            Measurement-noise matrix Ψ (m × V.dim) of y_k = C x_k + Ψ v_k; the identity by default.
+            (It is the system's ``D``, smoothing paper (14); ``statespace.D`` is the feedthrough.)
         dt : float, optional
-            Sampling time for a continuous model (required then).
-        method : str
-            Discretization method passed to `control.c2d` ('zoh', 'foh', 'tustin', ...).
-        """
-        import control
+            Sampling time Δ: required for a continuous model; for a discrete one it must agree with
+            ``statespace.dt`` (or supply it when that is ``True``, unspecified).
+        method : {'bounded', 'zoh'}, optional
+            Noise model of a continuous plant (above); must be None for a discrete one.
+        partition : int
+            Pieces of [0, Δ] for 'bounded': more is tighter, with more generators (the noise set has
+            ``partition`` copies of W's generators plus n; 32 by default).
 
-        if not isinstance(statespace, control.StateSpace):
-            raise TypeError(f"statespace must be a control.StateSpace, got {type(statespace).__name__}")
-        sys_d = statespace
-        if statespace.isctime():
-            if dt is None or not real_number(dt, "dt") > 0:
-                raise ValueError(f"dt must be a positive sampling time to discretize a continuous model, "
-                                 f"got {dt!r}")
-            sys_d = control.c2d(statespace, dt, method=method)
-        if np.any(np.asarray(sys_d.D) != 0):
-            raise ValueError("statespace must have zero feedthrough D (noise w must not reach y directly)")
-        m = np.asarray(sys_d.C).shape[0]
-        Psi = np.eye(m) if D is None else D
-        return cls(np.asarray(sys_d.A), np.asarray(sys_d.B), np.asarray(sys_d.C), Psi, W, V)
+        Returns
+        -------
+        LinearSystem
+            With ``dt`` set to the sampling time.
+
+        Raises
+        ------
+        TypeError
+            When ``statespace`` is not a `control.StateSpace`, or W/V not `ConvexSet`s.
+        ValueError
+            For a nonzero feedthrough, a missing or disagreeing ``dt``, an unknown ``method`` (or
+            one given with a discrete model), bad ``noise_inputs``, ``W`` of the wrong dimension,
+            missing or superfluous ``inputs``.
+
+        Examples
+        --------
+        >>> import control, numpy as np, setsmooth as ss
+        >>> plant = control.ss([[0.0, 1.0], [-4.0, -0.4]], [[0.0, 0.0], [1.0, 1.0]], [[1.0, 0.0]], 0)
+        >>> system = ss.LinearSystem.from_statespace(plant, ss.Box([-0.5], [0.5]), ss.Box([-0.1], [0.1]),
+        ...                                          noise_inputs=[1], inputs=np.ones((20, 1)), dt=0.1)
+        >>> system.n, system.W.dim, system.dt, system.has_input
+        (2, 2, 0.1, True)
+        """
+        from .statespace import linear_system_from_statespace
+
+        return linear_system_from_statespace(cls, statespace, W, V, noise_inputs=noise_inputs,
+                                             inputs=inputs, Psi=Psi, dt=dt, method=method,
+                                             partition=partition)
 
 
 class NonlinearSystem:
@@ -314,9 +368,9 @@ class NonlinearSystem:
         return as_vector(self.g(k, x, v), f"g({k}, x, v)")
 
 
-def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator,
-             x0: Any = None) -> tuple[np.ndarray, np.ndarray]:
-    """Simulate a trajectory with noises drawn uniformly from their ranges.
+def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator | None,
+             x0: Any = None, *, ws: Any = None, vs: Any = None) -> tuple[np.ndarray, np.ndarray]:
+    """Simulate a trajectory with given noises, or noises drawn uniformly from their ranges.
 
     Parameters
     ----------
@@ -325,10 +379,16 @@ def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator,
         ⟦x_0⟧; the initial state is drawn uniformly from it unless ``x0`` is given.
     T : int
         Final time step; states and measurements are returned for k = 0..T.
-    rng : numpy.random.Generator
-        The only source of randomness.
+    rng : numpy.random.Generator or None
+        The only source of randomness; may be None when ``x0``, ``ws`` and ``vs`` are all given.
     x0 : array_like, optional
         A fixed initial state; it must lie in ``x0_set`` (membership up to the default margin).
+    ws : array_like, shape (T, p), optional
+        Given process noises w_0..w_{T-1} (e.g. a worst case, or a recorded disturbance), used as
+        given: they are not checked against W, so a test can also drive an estimator off its model.
+        A given sequence is not drawn (the draws of the others keep their order).
+    vs : array_like, shape (T+1, q), optional
+        Given measurement noises v_0..v_T, likewise.
 
     Returns
     -------
@@ -352,23 +412,41 @@ def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator,
     interval hull (one membership LP per proposal) otherwise. All draws are made up front in a fixed
     order (x_0, then w_0..w_{T-1}, then v_0..v_T), so a seed fixes the whole trajectory.
     """
-    check_rng(rng)
     if isinstance(T, bool) or not isinstance(T, (int, np.integer)):
         raise TypeError(f"T must be a non-negative integer, got {T!r}")
     if T < 0:
         raise ValueError(f"T must be a non-negative integer, got {T!r}")
     if not isinstance(x0_set, ConvexSet) or x0_set.dim != system.n:
         raise ValueError(f"x0_set must be a ConvexSet of dimension n = {system.n}")
+    if x0 is None or ws is None or vs is None:
+        check_rng(rng)
+    ws = None if ws is None else _given_noises(ws, "ws", T, system.W.dim)
+    vs = None if vs is None else _given_noises(vs, "vs", T + 1, system.V.dim)
     if x0 is None:
         x = x0_set.sample(rng, 1)[0]
     else:
         x = as_vector(x0, "x0", system.n)
         if not x0_set.contains(x):
             raise ValueError(f"x0 = {x.tolist()} does not lie in x0_set")
-    ws = system.W.sample(rng, T) if T > 0 else np.zeros((0, system.W.dim))
-    vs = system.V.sample(rng, T + 1)
+    if ws is None:
+        ws = system.W.sample(rng, T) if T > 0 else np.zeros((0, system.W.dim))
+    if vs is None:
+        vs = system.V.sample(rng, T + 1)
     xs = [x]
     for k in range(T):
         xs.append(system.step(k, xs[-1], ws[k]))
     ys = [system.measure(k, xs[k], vs[k]) for k in range(T + 1)]
     return np.array(xs), np.array(ys)
+
+
+def _given_noises(values: Any, name: str, rows: int, dim: int) -> np.ndarray:
+    """A given noise sequence as a finite (rows, dim) array; the message names the argument."""
+    arr = real_array(values, name, f"an array of shape ({rows}, {dim})")
+    if arr.ndim == 1 and dim == 1:
+        arr = arr[:, None]
+    if arr.shape != (rows, dim):
+        raise ValueError(f"{name} must have shape ({rows}, {dim}), one row per step, got {arr.shape}")
+    bad = np.flatnonzero(~np.isfinite(arr).all(axis=1))
+    if bad.size:
+        raise ValueError(f"{name}[{bad[0]}] = {arr[bad[0]].tolist()} is not finite")
+    return arr

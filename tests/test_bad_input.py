@@ -196,8 +196,8 @@ for _id, _call, _exc, _names in [
     ("LinearSystem-u-row-inf", lambda: system(u=[[0, 0], [np.inf, 0]]), ValueError, r"u\[1\]"),
     ("LinearSystem-u-shape", lambda: system(u=np.ones((5, 3))), ValueError, r"\bu\b"),
     ("LinearSystem-u-strings", lambda: system(u=[["0", "0"]]), TypeError, r"\bu\b"),
-    ("from_statespace-D-complex", lambda: ss.LinearSystem.from_statespace(
-        _statespace(), ss.Box([-1], [1]), ss.Box([-1], [1]), D=[[1j]]), TypeError, r"\bD\b"),
+    ("from_statespace-Psi-complex", lambda: ss.LinearSystem.from_statespace(
+        _statespace(), ss.Box([-1], [1]), ss.Box([-1], [1]), Psi=[[1j]]), TypeError, r"\bPsi\b"),
     ("from_statespace-dt-complex", lambda: ss.LinearSystem.from_statespace(
         _statespace(dt=0), ss.Box([-1], [1]), ss.Box([-1], [1]), dt=0.1j), TypeError, r"\bdt\b"),
     ("from_statespace-dt-nan", lambda: ss.LinearSystem.from_statespace(

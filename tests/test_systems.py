@@ -52,9 +52,10 @@ def test_from_statespace_keeps_a_discrete_model():
     assert np.allclose(sys.A(0), [[0.9, 0.1], [0.0, 0.8]]) and np.allclose(sys.D(0), [[1.0]])
 
 
-def test_from_statespace_discretizes_a_continuous_model_with_c2d():
+def test_from_statespace_zoh_mode_matches_c2d():
     ssc = control.StateSpace([[0.0, 1.0], [-1.0, -0.5]], [[0.0], [1.0]], [[1.0, 0.0]], [[0.0]])
-    sys = ss.LinearSystem.from_statespace(ssc, ss.Box([-1], [1]), ss.Box([-1], [1]), dt=0.1)
+    sys = ss.LinearSystem.from_statespace(ssc, ss.Box([-1], [1]), ss.Box([-1], [1]), dt=0.1,
+                                          method="zoh")
     expected = control.c2d(ssc, 0.1, method="zoh")
     assert np.allclose(sys.A(0), expected.A) and np.allclose(sys.B(0), expected.B)
     with pytest.raises(ValueError, match="dt"):

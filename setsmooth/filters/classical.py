@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from .._validation import as_measurements, as_vector
+from ..results import SetEstimates
 from ..sets.algebra import generalized_intersection, linear_map, minkowski_sum, translate
 from ..sets.base import ConvexSet
 from ..sets.empty import EmptySet
@@ -30,7 +31,7 @@ VIEWS_FROM_STEPS = 64
 
 
 def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
-                     detect_empty: bool = True) -> list[ConvexSet]:
+                     detect_empty: bool = True) -> SetEstimates:
     """Posterior ranges ⟦x_k | y_{0:k}⟧ for k = 0..T (stability paper Algorithm 1).
 
     With ``reduce`` it is a bounded filter: the reduction is applied to every posterior before the next
@@ -58,8 +59,10 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
 
     Returns
     -------
-    list of ConvexSet
-        ``posteriors[k]`` = ⟦x_k | y_{0:k}⟧, or a superset of it with ``reduce``. An empty posterior
+    SetEstimates
+        A list of sets, ``posteriors[k]`` = ⟦x_k | y_{0:k}⟧, or a superset of it with ``reduce``
+        (``outer=True``), with interval-hull tubes (``lo``, ``hi``, ``diameters()``, ``plot_tubes``)
+        and the data it was computed from. An empty posterior
         means the measurements are inconsistent with the model (ill-posedness is data, not an
         exception). Without ``reduce``, when X0, W or V has no CZ form and X0 and W are bounded, the
         posteriors are `FilteredState`s: the same sets as projections of one compiled trajectory
@@ -70,7 +73,8 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
     ys = as_measurements(ys, system.m)
     _check_state_set(X0, "X0", system.n)
     if reduce is not None:
-        return _reduced_filter(system, X0, ys, as_methods(reduce, "reduce"), detect_empty)
+        return SetEstimates(_reduced_filter(system, X0, ys, as_methods(reduce, "reduce"), detect_empty),
+                            system=system, X0=X0, ys=ys, kind="filtered", outer=True)
     posteriors: list[ConvexSet] | None = None
     if any(S._flat_cz is None for S in (X0, system.W, system.V)):
         # Without a CZ form the recursion's sets nest O(k) deep, one CVXPY compilation per query:
@@ -94,7 +98,7 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
     if detect_empty:
         first = _first_empty(posteriors)
         posteriors[first:] = [EmptySet(system.n) for _ in range(first, len(posteriors))]
-    return posteriors
+    return SetEstimates(posteriors, system=system, X0=X0, ys=ys, kind="filtered")
 
 
 def _reduced_filter(system, X0: ConvexSet, ys: np.ndarray, methods, detect_empty: bool

@@ -23,6 +23,7 @@ from typing import Any
 
 from .._validation import as_measurements
 from ..filters.classical import classical_filter
+from ..results import SetEstimates
 from ..sets.algebra import generalized_intersection, minkowski_sum, translate
 from ..sets.base import ConvexSet
 from ..trajectories import trajectory_set
@@ -31,7 +32,7 @@ _METHODS = ("auto", "recursion", "trajectory")
 
 
 def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
-                     posteriors: list[ConvexSet] | None = None) -> list[ConvexSet]:
+                     posteriors: list[ConvexSet] | None = None) -> SetEstimates:
     """Smoothed ranges ⟦x_k | y_{0:T}⟧ for k = 0..T (smoothing paper Corollary 1, Algorithm 1).
 
     Parameters
@@ -50,18 +51,21 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
         trajectory form unless ``posteriors`` are given, the recursion then.
     posteriors : list of ConvexSet, optional
         Output of `classical_filter` for the same data, to avoid filtering twice. Only the recursion
-        uses them ('auto' then takes the recursion).
+        uses them ('auto' then takes the recursion). A `SetEstimates` is checked against
+        ``system``, ``X0`` and ``ys``; outer bounds (a reduced filter) give outer bounds.
 
     Returns
     -------
-    list of ConvexSet
-        ``smoothed[k]`` = ⟦x_k | y_{0:T}⟧; ``smoothed[T]`` is the last posterior.
+    SetEstimates
+        A list of sets, ``smoothed[k]`` = ⟦x_k | y_{0:T}⟧ (``smoothed[T]`` is the last posterior),
+        with interval-hull tubes and the data it was computed from.
 
     Raises
     ------
     ValueError
         For an unknown ``method``, ``posteriors`` with ``method='trajectory'`` (that form never reads
-        them), or ``posteriors`` of the wrong length, or an ``X0`` that is not a set of dimension n.
+        them), or ``posteriors`` of the wrong length or computed from other data (another system
+        object, other measurements or another X0), or an ``X0`` that is not a set of dimension n.
 
     Examples
     --------
@@ -82,12 +86,16 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
         method = "trajectory" if posteriors is None else "recursion"
     if method == "trajectory":
         _check_state_set(X0, "X0", system.n)
-        return smoothed_ranges_from_trajectories(trajectory_set(system, X0, ys), system.n)
+        return SetEstimates(smoothed_ranges_from_trajectories(trajectory_set(system, X0, ys), system.n),
+                            system=system, X0=X0, ys=ys, kind="smoothed")
     if posteriors is None:
         posteriors = classical_filter(system, X0, ys)
     elif len(posteriors) != len(ys):
         raise ValueError(f"posteriors must hold one set per measurement ({len(ys)}), got {len(posteriors)}")
-    return smooth(system, posteriors)
+    if isinstance(posteriors, SetEstimates):
+        posteriors.check_same_data(system, X0, ys)
+    return SetEstimates(smooth(system, posteriors), system=system, X0=X0, ys=ys, kind="smoothed",
+                        outer=getattr(posteriors, "outer", False))
 
 
 def smooth(system, posteriors: list[ConvexSet]) -> list[ConvexSet]:
