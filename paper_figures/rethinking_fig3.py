@@ -66,17 +66,8 @@ DIRECTIONS = np.array([[np.cos(t), np.sin(t)] for t in np.linspace(0, 2 * np.pi,
 
 
 def polygon(S: ss.ConvexSet) -> np.ndarray:
-    """Vertices of a 2-D set, counter-clockwise: the convex hull of `vertices_2d`'s boundary points.
-
-    The hull guards against the boundary walk of `vertices_2d` on the thin posteriors far from the
-    origin at k = 20 (widths ~1 at |x| ~ 150), where it returned a path winding several times round
-    the polygon (its shoelace area was 1.5 times the true one); every point it returns is a support
-    point, so their hull is the polygon.
-    """
-    from scipy.spatial import ConvexHull
-
-    points = S.vertices_2d()
-    return points[ConvexHull(points).vertices]
+    """Vertices of a 2-D set, counter-clockwise (`vertices_2d`: exact polygons of polytopes)."""
+    return S.vertices_2d()
 
 
 def area(vertices: np.ndarray) -> float:

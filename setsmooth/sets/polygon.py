@@ -5,7 +5,10 @@ outward normal of every chord between consecutive boundary points and inserts th
 whenever it lies beyond the chord. For a polytope every inserted point is a vertex or lies on an edge,
 so the walk ends with the exact polygon (collinear points are then dropped); for a curved set it stops
 when every chord is within ``tol`` of the boundary or at ``max_vertices``. All chords of one round are
-queried as one stacked program.
+queried as one stacked program. Each round keeps the convex hull of the points found so far: a support
+point computed to the solver's accuracy can fall a little inside the current polygon or beside the
+chord it was asked for (thin sets far from the origin), and splicing it in by position would make the
+walk wind round the polygon several times.
 """
 
 from __future__ import annotations
@@ -51,7 +54,7 @@ def vertices_2d(S, tol: float | None = None, max_vertices: int = 512) -> np.ndar
         raise ValueError("vertices_2d needs a bounded set; this one is unbounded")
     extent = np.ptp(points, axis=0).max()
     eps = tol if tol is not None else tol_policy.scaled(tol_policy.VERTEX_TOL, extent)
-    poly = _dedupe(points, eps)
+    poly = _dedupe(_convex_hull(points), eps)
     while len(poly) >= 2 and len(poly) < max_vertices:
         nxt = np.roll(poly, -1, axis=0)
         chords = nxt - poly
@@ -63,13 +66,33 @@ def vertices_2d(S, tol: float | None = None, max_vertices: int = 512) -> np.ndar
         grow = np.flatnonzero(gap > eps)
         if grow.size == 0:
             break
-        pieces = []
-        for i in range(len(poly)):
-            pieces.append(poly[i:i + 1])
-            if i in set(grow.tolist()):
-                pieces.append(found[i:i + 1])
-        poly = _dedupe(np.vstack(pieces), eps)
+        grown = _dedupe(_convex_hull(np.vstack([poly, found[grow]])), eps)
+        if len(grown) == len(poly) and np.array_equal(grown, poly):
+            break   # the new points were inside to within rounding: nothing left to refine
+        poly = grown
     return _drop_collinear(poly, eps)
+
+
+def _convex_hull(points: np.ndarray) -> np.ndarray:
+    """Counter-clockwise convex hull (Andrew's monotone chain), collinear points dropped."""
+    pts = np.unique(points, axis=0)          # sorted by x, then y
+    if len(pts) <= 2:
+        return pts
+
+    def half(sequence):
+        chain: list[np.ndarray] = []
+        for p in sequence:
+            while len(chain) >= 2 and _cross(chain[-2], chain[-1], p) <= 0:
+                chain.pop()
+            chain.append(p)
+        return chain
+
+    lower, upper = half(pts), half(pts[::-1])
+    return np.array(lower[:-1] + upper[:-1])
+
+
+def _cross(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+    return float((a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]))
 
 
 def _dedupe(poly: np.ndarray, eps: float) -> np.ndarray:

@@ -86,3 +86,29 @@ def test_plot_of_a_segment_is_a_line_and_of_the_empty_set_nothing():
     assert line in ax.lines
     assert ss.EmptySet(2).plot(ax=ax) is None
     plt.close(fig)
+
+
+
+def test_thin_posterior_far_from_the_origin_gives_one_convex_loop():
+    """Rethinking example (30) at k = 20 (seeded run 6 of Fig. 3): a posterior about 1 wide at |x| ~ 150
+    whose support points come from a CVXPY program; the walk once wound round it 60 times (391 points,
+    shoelace area 7.82 for a polygon of area 0.117)."""
+    from setsmooth.rethinking_examples import (rethinking_example_30, rethinking_example_30_joint_range,
+                                               rethinking_example_30_x0)
+
+    rng = np.random.default_rng(np.random.SeedSequence(0, spawn_key=(6,)))
+    system, X0 = rethinking_example_30(), rethinking_example_30_x0()
+    x, w, vs = X0.sample(rng, 1)[0], system.W.sample(rng, 1)[0], system.V.sample(rng, 21)
+    xs = [x]
+    for k in range(20):
+        xs.append(system.step(k, xs[-1], w))
+    ys = np.array([system.measure(k, xs[k], vs[k]) for k in range(21)])
+    S = ss.joint_trajectory_set(system, rethinking_example_30_joint_range(20), ys, 20).project([40, 41])
+    v = S.vertices_2d()
+    n = len(v)
+    turns = [np.cross(v[i] - v[i - 1], v[(i + 1) % n] - v[i]) for i in range(n)]
+    assert min(turns) > 0                                          # convex, counter-clockwise
+    headings = np.unwrap([np.arctan2(*(v[(i + 1) % n] - v[i % n])[::-1]) for i in range(n + 1)])
+    assert headings[-1] - headings[0] == pytest.approx(2 * np.pi, abs=1e-6)   # exactly one turn
+    D = np.column_stack([np.cos(np.linspace(0, 2 * np.pi, 48)), np.sin(np.linspace(0, 2 * np.pi, 48))])
+    np.testing.assert_allclose((v @ D.T).max(axis=0), S.support_many(D), atol=1e-6)
