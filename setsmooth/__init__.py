@@ -20,7 +20,8 @@ _EXPORTS = {
                      "GeneralizedIntersection", "CartesianProduct", "reduce", "ReductionMethod",
                      "DropZeros", "DropDependentConstraints", "MergeParallelGenerators", "Rescale",
                      "EliminateConstraints", "Girard", "Combastel", "IntervalHull", "CORA_GIRARD",
-                     "CORA_COMBASTEL"], ".sets"),
+                     "CORA_COMBASTEL", "VPolytope", "Containment", "is_subset",
+                     "pontryagin_difference", "ChebyshevBall"], ".sets"),
     "SolverError": ".solvers",
     **dict.fromkeys(["LinearSystem", "NonlinearSystem", "simulate"], ".systems"),
     **dict.fromkeys(["classical_filter", "interval_filter", "kalman_filter", "rts_smoother",
@@ -41,7 +42,7 @@ __all__ = [
     "IntervalEstimates", "kalman_filter", "rts_smoother", "KalmanResult", "montecarlo", "paper_examples",
     "reduce", "ReductionMethod", "DropZeros", "DropDependentConstraints", "MergeParallelGenerators",
     "Rescale", "EliminateConstraints", "Girard", "Combastel", "IntervalHull", "CORA_GIRARD",
-    "CORA_COMBASTEL",
+    "CORA_COMBASTEL", "VPolytope", "Containment", "is_subset", "pontryagin_difference", "ChebyshevBall",
 ]
 
 
@@ -69,6 +70,7 @@ if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
     from .sets import (CORA_COMBASTEL, CORA_GIRARD, Combastel, DropDependentConstraints, DropZeros,
                        EliminateConstraints, Girard, IntervalHull, MergeParallelGenerators,
                        ReductionMethod, Rescale, reduce)
+    from .sets import ChebyshevBall, Containment, VPolytope, is_subset, pontryagin_difference
     from .smoothers import interval_smoother, optimal_smoother
     from .solvers import SolverError
     from .systems import LinearSystem, NonlinearSystem, simulate

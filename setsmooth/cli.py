@@ -1,4 +1,4 @@
-"""Command line: ``setsmooth figures [NAME...] [--runs N] [--out DIR] [--seed S] [--workers W]``.
+"""Command line: ``setsmooth figures [NAME...] [--runs N] [--out DIR] [--seed S] [--workers W] [--format pdf,svg]``.
 
 Regenerates the paper figures. The scripts live in the repository's ``paper_figures/`` directory,
 outside the package; it is looked for in ``$SETSMOOTH_FIGURES_DIR``, then in the working directory and
@@ -9,6 +9,9 @@ per (q, r) pair, Fig. 6 the paper's 5000 runs. Together that is 430–700 CPU-se
 measured on a 2-core machine shared with other jobs, about 4–6 minutes on 2 idle cores). ``--runs N``
 sets every figure to N runs, except that Fig. 4 uses min(N, 100) runs per pair, the paper's size;
 ``--runs 5000`` reproduces the paper's sizes throughout (one to two hours on 2 cores).
+
+Formats: every figure is written as PNG (the report embeds it); ``--format pdf,svg`` writes vector
+copies beside it for a paper (PDF, SVG or EPS; text kept as text).
 """
 
 from __future__ import annotations
@@ -22,6 +25,10 @@ import traceback
 from pathlib import Path
 
 ENV_VAR = "SETSMOOTH_FIGURES_DIR"
+#: Read by ``paper_figures/_outputs.py``: the extra formats of every figure (comma-separated).
+FORMATS_ENV = "SETSMOOTH_FIGURE_FORMATS"
+#: The formats ``--format`` accepts besides PNG (kept equal to ``_outputs.FORMATS``).
+FORMATS = ("png", "pdf", "svg", "eps")
 FIGURES_DIRNAME = "paper_figures"
 REPORT_MODULE = "report"
 
@@ -76,9 +83,41 @@ def select(available: list[str], requested: list[str]) -> list[str]:
     return chosen
 
 
+def parse_formats(text: str) -> list[str]:
+    """The formats of ``--format`` (comma-separated), PNG first and always.
+
+    Raises
+    ------
+    ValueError
+        For an unknown format, naming the known ones.
+    """
+    asked = [f.strip().lower().lstrip(".") for f in text.split(",") if f.strip()]
+    unknown = [f for f in asked if f not in FORMATS]
+    if unknown:
+        raise ValueError(f"unknown --format {', '.join(unknown)}; choose from {', '.join(FORMATS)}")
+    return list(dict.fromkeys(["png", *asked]))
+
+
 def run_figures(names: list[str], figures_dir: Path, out: Path, runs: int | None, seed: int,
-                workers: int | None, progress: bool) -> tuple[dict, Path]:
-    """Run the named figure scripts, then write the report; return (wall times or errors, report path)."""
+                workers: int | None, progress: bool,
+                formats: list[str] | None = None) -> tuple[dict, Path]:
+    """Run the named figure scripts, then write the report; return (wall times or errors, report path).
+
+    ``formats``: the image formats of every figure (PNG always; e.g. ``['png', 'pdf']``), passed
+    to the scripts' `_outputs.write_outputs` through ``$SETSMOOTH_FIGURE_FORMATS`` for this call.
+    """
+    previous = os.environ.get(FORMATS_ENV)
+    os.environ[FORMATS_ENV] = ",".join(formats or ["png"])
+    try:
+        return _run_figures(names, figures_dir, out, runs, seed, workers, progress)
+    finally:
+        if previous is None:
+            os.environ.pop(FORMATS_ENV, None)
+        else:
+            os.environ[FORMATS_ENV] = previous
+
+
+def _run_figures(names, figures_dir, out, runs, seed, workers, progress):
     if str(figures_dir) not in sys.path:
         # The scripts import their sibling helpers, and pool workers unpickle trials by module name.
         sys.path.insert(0, str(figures_dir))
@@ -119,7 +158,14 @@ def main(argv: list[str] | None = None) -> int:
     figures.add_argument("--workers", type=int, default=None, help="worker processes (default 2)")
     figures.add_argument("--no-progress", action="store_true", help="hide the progress bars")
     figures.add_argument("--list", action="store_true", help="list the figure scripts and exit")
+    figures.add_argument("--format", default="", metavar="FMT[,FMT]",
+                         help="vector copies of every figure besides the PNG: pdf, svg, eps "
+                              "(comma-separated, e.g. pdf,svg)")
     args = parser.parse_args(argv)
+    try:
+        formats = parse_formats(args.format)
+    except ValueError as exc:
+        parser.error(str(exc))
 
     if args.runs is not None and args.runs < 1:
         parser.error("--runs must be at least 1")
@@ -140,7 +186,7 @@ def main(argv: list[str] | None = None) -> int:
     out = (args.out or figures_dir / "out").resolve()
     start = time.perf_counter()
     outcome, report = run_figures(names, figures_dir, out, args.runs, args.seed, args.workers,
-                                  not args.no_progress)
+                                  not args.no_progress, formats)
     print(f"== report: {report} ({time.perf_counter() - start:.0f} s in all)")
     failed = [name for name, value in outcome.items() if value == "failed"]
     if failed:

@@ -80,3 +80,8 @@ def gamma(k: int) -> float:
     """Higham's γ_k = k·u / (1 − k·u): relative error bound of a k-term floating-point dot product."""
     ku = k * UNIT_ROUNDOFF
     return ku / (1.0 - ku)
+
+#: Relative rounding level of a set's coordinates in the default membership margin (`ConvexSet.contains`):
+#: the margin is ``MEMBERSHIP_TOL`` times the set's width plus this times the coordinates' magnitude,
+#: the rounding a chain of set operations accumulates (about 4,500 unit roundoffs).
+MAGNITUDE_TOL = 1e-12

@@ -1,9 +1,13 @@
 """`ConvexSet`: a set is anything that can state "x is in me" as CVXPY constraints.
 
-Every query is derived here once, through the generic CVXPY path of `setsmooth.solvers`. A
-representation overrides the private hooks (``_support``, ``_is_empty``, ``_contains``,
-``_as_constrained_zonotope`` ...) where it knows a closed form or a faster program; the public methods
-validate arguments once and dispatch.
+Every query is derived here once, through the generic CVXPY path of `setsmooth.solvers`.
+
+Extension points for users (public, documented, stable): `ConvexSet.as_constrained_zonotope` (the set
+is exactly a constrained zonotope: every query and estimator then takes the CZ fast path) and
+`ConvexSet.support_function` / `ConvexSet.support_vectors` (a closed-form support function). The
+library's own representations override private hooks (``_support``, ``_is_empty``, ``_contains``,
+``_as_constrained_zonotope`` ...) where they know a closed form or a faster program; the private
+``_as_constrained_zonotope`` stays the default of the public hook, so both spellings work.
 """
 
 from __future__ import annotations
@@ -77,7 +81,7 @@ class ConvexSet(AlgebraHooks, ABC):
     def support_many(self, D: Any, *, path: str = "auto", certified: bool = False) -> np.ndarray:
         """Support values for every row of ``D`` (shape (k, dim)); see `support`."""
         D = as_directions(D, self.dim)
-        return self._support_points(D, self._check_path(path), certified)[0]
+        return self._support_values(D, self._check_path(path), certified)
 
     def support_point(self, d: Any, *, path: str = "auto") -> np.ndarray:
         """A maximizer of dᵀx over the set (NaN entries when the support is infinite)."""
@@ -93,15 +97,98 @@ class ConvexSet(AlgebraHooks, ABC):
             return self._generic.support(D)
         return self._support(D, certified)
 
+    def _support_values(self, D: np.ndarray, path: str, certified: bool) -> np.ndarray:
+        """Values only, trusted arguments: a user's closed form (`support_function`) without
+        solving for maximizers; otherwise the values of `_support_points`."""
+        if path == "auto" and not certified and _overrides(self, "support_function"):
+            return _user_values(self, D)
+        return self._support_points(D, path, certified)[0]
+
     def _support(self, D: np.ndarray, certified: bool):
-        """Hook: (values, points). Default: the CZ fast path when the set flattens to a CZ."""
+        """Hook: (values, points). Default: the user's closed form (`support_function`,
+        `support_vectors`) when given, else the CZ fast path when the set flattens to a CZ, else
+        the generic path."""
         cz = self._flat_cz
+        if not certified and _overrides(self, "support_function"):
+            values = _user_values(self, D)
+            if _overrides(self, "support_vectors"):
+                points = _user_points(self, D)
+            else:  # maximizers from a program; the values stay the closed form's
+                points = (cz._support(D, False) if cz is not None else self._generic.support(D))[1]
+            points[~np.isfinite(values)] = np.nan
+            return values, points
         if cz is not None:
             return cz._support(D, certified)
         if certified:
             raise ValueError(f"certified support values are not available for {type(self).__name__}:"
                              " it does not flatten to a constrained zonotope")
         return self._generic.support(D)
+
+    # -- extension points (public: override these in a user representation) -------------------------
+    def as_constrained_zonotope(self) -> "ConstrainedZonotope | None":
+        """Extension point: an exact constrained-zonotope form of this set, or None.
+
+        Override it in a representation that is exactly a CZ Z(G, c, A, b, h) (smoothing paper
+        Definition 2): every query (support, emptiness, membership, interval hull) then takes the
+        sparse CZ fast path with certified values, and filters, smoothers and trajectory sets use
+        the closed forms of smoothing (35)–(37) instead of CVXPY. It is called once per set (the
+        result is kept), so it may build the matrices. Returning another set that is exactly a CZ
+        (a `Zonotope`, a bounded `Box`) is accepted. The default returns the library's private
+        hook ``_as_constrained_zonotope()`` (None for a set without an exact CZ form).
+
+        Returns
+        -------
+        ConstrainedZonotope or None
+            Must be the same set, of dimension ``dim``; None when there is no exact CZ form.
+
+        Examples
+        --------
+        >>> import numpy as np, setsmooth as ss
+        >>> class Cross(ss.ConvexSet):  # the ℓ1 ball of ℝ² = the zonotope of (1, 1) and (1, −1) halved
+        ...     dim = 2
+        ...     def constraints(self, x):
+        ...         import cvxpy as cp
+        ...         return [cp.norm1(x) <= 1]
+        ...     def as_constrained_zonotope(self):
+        ...         return ss.ConstrainedZonotope(0.5 * np.array([[1.0, 1.0], [1.0, -1.0]]), np.zeros(2))
+        >>> round(Cross().support([1.0, 0.0]), 9)
+        1.0
+        """
+        return self._as_constrained_zonotope()
+
+    def support_function(self, D: np.ndarray) -> np.ndarray:
+        """Extension point: the support values h_S(d) = sup_{x∈S} dᵀx of every row d of ``D``.
+
+        Override it in a representation with a closed-form support function: `support`,
+        `support_many`, `interval_hull`, `diameter`, containment tests and the lazy algebra (sums,
+        linear maps, products of this set) then use it instead of a convex program. Override
+        `support_vectors` too when the maximizers are known in closed form; otherwise they come
+        from a program when a query needs them (`support_point`, `vertices_2d`, plotting). Called
+        with a trusted float array of shape (k, dim); must return shape (k,) (``+inf`` along
+        unbounded directions, ``-inf`` for an empty set). Certified queries (``certified=True``)
+        use the CZ fast path when the set has one, never this override.
+
+        The default (not overridden) computes the values by the set's own programs.
+
+        Parameters
+        ----------
+        D : ndarray, shape (k, dim)
+            Directions, one per row.
+
+        Returns
+        -------
+        ndarray, shape (k,)
+        """
+        return self.support_many(D)
+
+    def support_vectors(self, D: np.ndarray) -> np.ndarray:
+        """Extension point: a maximizer of dᵀx over the set for every row d of ``D``, shape (k, dim).
+
+        Override it together with `support_function` when the maximizers have a closed form. The
+        default computes them (the set's program).
+        """
+        D = as_directions(D, self.dim)
+        return self._support_points(D, "auto", False)[1]
 
     @property
     def _generic(self) -> GenericProgram:
@@ -111,7 +198,10 @@ class ConvexSet(AlgebraHooks, ABC):
 
     @cached_property
     def _flat_cz(self) -> "ConstrainedZonotope | None":
-        return self._as_constrained_zonotope()
+        cz = self.as_constrained_zonotope()
+        if cz is None or cz is self:
+            return cz
+        return _checked_cz_form(self, cz)
 
     def _as_constrained_zonotope(self) -> "ConstrainedZonotope | None":
         """Hook: an exact CZ representation of this set, or None when there is none."""
@@ -142,32 +232,95 @@ class ConvexSet(AlgebraHooks, ABC):
         return cz._is_empty() if cz is not None else self._generic.is_empty()
 
     def contains(self, point: Any, tol: float | None = None, *, path: str = "auto") -> bool:
-        """Whether ``point`` lies in the set, up to an ∞-norm margin.
+        """Whether ``point`` lies in the set, up to a margin.
 
         Parameters
         ----------
         point : array_like, shape (dim,)
         tol : float, optional
-            Absolute ∞-norm margin; defaults to ``MEMBERSHIP_TOL`` scaled by the point's magnitude.
+            Absolute ∞-norm margin: True when some member lies within ``tol`` of ``point``. By
+            default the margin is relative to the set's own scale, per coordinate
+            (`setsmooth.sets.membership.default_margins`): ``MEMBERSHIP_TOL`` times the width of
+            the set's interval hull in that coordinate, plus ``MAGNITUDE_TOL`` times the
+            coordinates' magnitude (the rounding the set algebra accumulates). A box of width 1e-9
+            thus holds no point a thousandth of its width away, and a set measured in km along one
+            axis and in µm along another is judged in both units. Coordinates along which the set
+            is unbounded have no own scale; they keep ``MEMBERSHIP_TOL · max(1, |p_i|)``.
+        path : {'auto', 'generic'}
+
+        Returns
+        -------
+        bool
+
+        Examples
+        --------
+        >>> import setsmooth as ss
+        >>> tiny = ss.Box([0.0], [1e-9])
+        >>> tiny.contains([0.5e-9]), tiny.contains([50e-9]), [50e-9] in tiny
+        (True, False, False)
         """
+        from .membership import default_margins
+
         p = as_vector(point, "point", self.dim)
-        margin = self._margin(p, tol)
-        if self._check_path(path) == "generic":
-            return self._generic.contains(p, margin)
+        path = self._check_path(path)
+        margin = self._margin(p, tol) if tol is not None else default_margins(self, p, path)
+        if margin is None:  # the set is empty
+            return False
+        if path == "generic":
+            from .membership import generic_contains
+
+            return generic_contains(self, p, margin)
         return self._contains(p, margin)
 
-    def _contains(self, p: np.ndarray, margin: float) -> bool:
+    def __contains__(self, point: Any) -> bool:
+        """``point in S``: `contains` with the default, scale-relative margin."""
+        if isinstance(point, ConvexSet):
+            raise TypeError("`in` tests membership of a point; for sets use S.is_subset(T) or S <= T")
+        return self.contains(point)
+
+    def _contains(self, p: np.ndarray, margin: "float | np.ndarray") -> bool:
+        """Hook: membership with an ∞-norm margin, a float or one per coordinate (shape (dim,))."""
+        from .membership import generic_contains
+
         cz = self._flat_cz
-        return cz._contains(p, margin) if cz is not None else self._generic.contains(p, margin)
+        return cz._contains(p, margin) if cz is not None else generic_contains(self, p, margin)
 
     @staticmethod
-    def _margin(p: np.ndarray, given: float | None) -> float:
-        if given is None:
-            return tol.scaled(tol.MEMBERSHIP_TOL, np.abs(p).max(initial=0.0))
+    def _margin(p: np.ndarray, given: float) -> float:
         value = real_number(given, "tol")
         if not np.isfinite(value) or value < 0:
             raise ValueError(f"tol must be a finite non-negative number, got {given}")
         return value
+
+    # -- containment and differences (setsmooth.sets.containment, setsmooth.sets.difference) ---------
+    def is_subset(self, other: "ConvexSet", tol: float | None = None):
+        """Whether this set is contained in ``other``: see `setsmooth.sets.containment.is_subset`.
+
+        Returns a `Containment` (truthy when containment is established), which says whether the
+        test was exact or only sufficient.
+        """
+        from .containment import is_subset
+
+        return is_subset(self, other, tol=tol)
+
+    def __le__(self, other):
+        if not isinstance(other, ConvexSet):
+            return NotImplemented
+        return self.is_subset(other)
+
+    def __ge__(self, other):
+        if not isinstance(other, ConvexSet):
+            return NotImplemented
+        return other.is_subset(self)
+
+    def pontryagin_difference(self, other: "ConvexSet", method: str = "exact") -> "ConvexSet":
+        """{x : x + other ⊆ self}: see `setsmooth.sets.difference.pontryagin_difference`.
+
+        Not the same as ``self - other``, which is the Minkowski sum self ⊕ (−other).
+        """
+        from .difference import pontryagin_difference
+
+        return pontryagin_difference(self, other, method=method)
 
     # -- derived geometry ----------------------------------------------------------------------------
     def interval_hull(self, *, path: str = "auto",
@@ -233,8 +386,10 @@ class ConvexSet(AlgebraHooks, ABC):
         method : {'interval_hull', 'chebyshev', 'closest'}
             'interval_hull': centre of the interval hull, which is also the ∞-norm Chebyshev centre
             (the point minimizing the worst-case ∞-norm error over the set).
-            'chebyshev': centre of the largest inscribed Euclidean ball (sets with an H-representation
-            and ellipsoids).
+            'chebyshev': centre of the largest inscribed Euclidean ball (sets with an H-representation,
+            ellipsoids, and sets that flatten to a constrained zonotope: see
+            `ConstrainedZonotope.chebyshev_ball`, exact in 2-D and for zonotopes, an inner ball
+            otherwise).
             'closest': the member closest to ``reference`` in the given ``norm`` (LSU paper,
             Method 2): one Clarabel program on the factor set when the set flattens to a
             constrained zonotope and ``norm`` is 1, 2 or inf (`solvers.closest`), the generic CVXPY
@@ -275,9 +430,13 @@ class ConvexSet(AlgebraHooks, ABC):
         return closest_point(cz.G, cz.c, cz.A, cz.b, cz.h, reference, p)
 
     def _chebyshev_center(self) -> np.ndarray:
+        cz = self._flat_cz
+        if cz is not None:
+            return cz.chebyshev_ball().center
         raise NotImplementedError(
-            f"the inscribed-ball Chebyshev centre needs an H-representation; {type(self).__name__} "
-            "has none (use center('interval_hull'), the ∞-norm Chebyshev centre)")
+            f"the inscribed-ball Chebyshev centre needs an H-representation or a constrained-zonotope "
+            f"form; {type(self).__name__} has neither (use center('interval_hull'), the ∞-norm "
+            "Chebyshev centre)")
 
     def vertices_2d(self) -> np.ndarray:
         """Vertices of a bounded 2-D set in counter-clockwise order (see `setsmooth.sets.polygon`)."""
@@ -292,7 +451,17 @@ class ConvexSet(AlgebraHooks, ABC):
         return polygon_area(self.vertices_2d())
 
     def plot(self, ax=None, dims: Sequence[int] = (0, 1), **kwargs):
-        """Draw the 2-D projection onto ``dims`` as a matplotlib patch and return the patch."""
+        """Draw the projection onto ``dims`` and return the matplotlib artist.
+
+        Two ``dims``: a `matplotlib.patches.Polygon` on a 2-D axes (`polygon.plot_set`). Three
+        ``dims``: a `Poly3DCollection` of the exact polytope (curved sets: refined to the
+        vertex tolerance) on a 3-D axes (`polytope3d.plot_set_3d`; ``ax`` from
+        ``fig.add_subplot(projection='3d')``). Keyword arguments go to the artist.
+        """
+        if len(tuple(dims)) == 3:
+            from .polytope3d import plot_set_3d
+
+            return plot_set_3d(self, ax=ax, dims=dims, **kwargs)
         from .polygon import plot_set
 
         return plot_set(self, ax=ax, dims=dims, **kwargs)
@@ -327,6 +496,9 @@ class ConvexSet(AlgebraHooks, ABC):
     __radd__ = __add__
 
     def __sub__(self, other):
+        """``S - T`` is the Minkowski sum S ⊕ (−T) = {s − t : s ∈ S, t ∈ T}, and ``S - v`` a
+        translation; it is NOT the Pontryagin difference {x : x + T ⊆ S}, which is
+        `pontryagin_difference` (S ⊕ (−T) grows, S ⊖ T shrinks)."""
         if isinstance(other, ConvexSet):
             return self + (-np.eye(other.dim)) @ other
         return self + (-as_vector(other, "translation vector", self.dim))
@@ -418,3 +590,42 @@ def _as_dims(dims: Sequence[int], n: int) -> np.ndarray:
     if idx.size == 0 or (idx < 0).any() or (idx >= n).any():
         raise ValueError(f"dims must be non-empty indices in [0, {n}), got {list(idx)}")
     return idx
+
+
+def _overrides(S: ConvexSet, name: str) -> bool:
+    """Whether the class of ``S`` overrides the public extension point ``name``."""
+    return getattr(type(S), name) is not getattr(ConvexSet, name)
+
+
+def _user_values(S: ConvexSet, D: np.ndarray) -> np.ndarray:
+    values = np.asarray(S.support_function(D), dtype=float).reshape(-1)
+    if values.shape != (D.shape[0],) or np.isnan(values).any():
+        raise ValueError(f"{type(S).__name__}.support_function must return {D.shape[0]} values "
+                         f"(one per direction, no NaN), got shape {np.shape(values)}")
+    return values
+
+
+def _user_points(S: ConvexSet, D: np.ndarray) -> np.ndarray:
+    points = np.array(S.support_vectors(D), dtype=float)
+    if points.shape != D.shape:
+        raise ValueError(f"{type(S).__name__}.support_vectors must return shape {D.shape} "
+                         f"(one point per direction), got {points.shape}")
+    return points
+
+
+def _checked_cz_form(S: ConvexSet, cz: Any) -> "ConstrainedZonotope":
+    """The CZ a user's `as_constrained_zonotope` returned, checked at the door."""
+    from .constrained_zonotope import ConstrainedZonotope
+
+    what = f"{type(S).__name__}.as_constrained_zonotope()"
+    if isinstance(cz, ConvexSet) and not isinstance(cz, ConstrainedZonotope):
+        inner = cz._flat_cz
+        if inner is None:
+            raise TypeError(f"{what} returned a {type(cz).__name__}, which is not exactly a "
+                            "constrained zonotope; return a ConstrainedZonotope (or None)")
+        cz = inner
+    if not isinstance(cz, ConstrainedZonotope):
+        raise TypeError(f"{what} must return a ConstrainedZonotope or None, got {type(cz).__name__}")
+    if cz.dim != S.dim:
+        raise ValueError(f"{what} returned a set of dimension {cz.dim}; the set has dim = {S.dim}")
+    return cz

@@ -201,8 +201,41 @@ class ConstrainedZonotope(ConvexSet):
     def _is_empty(self) -> bool:
         return self.factors.is_empty()
 
-    def _contains(self, p: np.ndarray, margin: float) -> bool:
-        return self._program.contains(p, margin)
+    def _contains(self, p: np.ndarray, margin) -> bool:
+        if np.ndim(margin) == 0:
+            return self._program.contains(p, float(margin))
+        # Per-coordinate margins: the distance program in normalized coordinates (x − p)/s, where
+        # the set has unit size and the margin is MEMBERSHIP_TOL (`sets.membership`); the factor
+        # set and its presolve are shared.
+        from .membership import normalization
+
+        s, offset = normalization(p, margin)
+        G = sp.diags(1.0 / s) @ self.G if sp.issparse(self.G) else self.G / s[:, None]
+        scaled = ConstrainedZonotope._trusted(G, self.c / s + offset, self.A, self.b, self.h,
+                                              self.factors)
+        return scaled._program.contains(np.zeros(self.dim), float(np.max(margin / s)))
+
+    def chebyshev_ball(self):
+        """The largest Euclidean ball inside the CZ (`setsmooth.sets.chebyshev.chebyshev_ball`).
+
+        Exact in dimensions 1 and 2 and for zonotopes with few facets; otherwise a ball inside
+        the set from one SOCP, with ``exact`` True only when it provably is the largest.
+
+        Returns
+        -------
+        ChebyshevBall
+            ``center``, ``radius``, ``exact``.
+
+        Examples
+        --------
+        >>> import numpy as np, setsmooth as ss
+        >>> ball = ss.ConstrainedZonotope(np.diag([2.0, 1.0]), np.zeros(2)).chebyshev_ball()
+        >>> np.round(ball.center, 6).tolist(), round(ball.radius, 6), ball.exact
+        ([0.0, 0.0], 1.0, True)
+        """
+        from .chebyshev import chebyshev_ball
+
+        return chebyshev_ball(self)
 
     # -- closed-form algebra ---------------------------------------------------------------------------
     def _linear_map(self, M) -> "ConstrainedZonotope":

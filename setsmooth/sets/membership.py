@@ -1,0 +1,71 @@
+"""Membership margins relative to the set's own scale, and membership programs with per-coordinate margins.
+
+``S.contains(p)`` without ``tol`` decides p ∈ S ⊕ [−m, m] for the margin vector
+
+    m_i = MEMBERSHIP_TOL · w_i + MAGNITUDE_TOL · max(|p_i|, |lo_i|, |hi_i|),
+
+where [lo, hi] is the interval hull of S (computed once and kept on the set) and w = hi − lo its
+widths: a margin relative to the extent of the set in each coordinate, plus the rounding level of
+the coordinates' magnitude. An absolute margin such as ``MEMBERSHIP_TOL · max(1, |p|)`` made a box of
+width 1e-9 contain a point fifty widths away. Coordinates along which S is unbounded have no width;
+they keep the absolute margin ``MEMBERSHIP_TOL · max(1, |p_i|)``.
+
+A per-coordinate margin is decided in normalized coordinates x ↦ (x − p)/s with s = m/MEMBERSHIP_TOL, so
+that every program sees a set of unit size and a margin ``MEMBERSHIP_TOL`` that its accuracy
+(``SOLVER_TOL``) resolves, however small or large the set's own units are.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .. import tolerances as tol
+
+#: Smallest normalization scale: keeps (x − p)/s finite for a set that is a single point at 0.
+_TINY_SCALE = float(np.sqrt(np.finfo(float).tiny))
+
+
+def default_margins(S, p: np.ndarray, path: str = "auto") -> np.ndarray | None:
+    """The default per-coordinate membership margins of ``S`` at ``p`` (None when S is empty).
+
+    Parameters
+    ----------
+    S : ConvexSet
+    p : ndarray, shape (S.dim,)
+    path : {'auto', 'generic'}
+        The path of the interval hull that sets the scale.
+
+    Returns
+    -------
+    ndarray, shape (S.dim,) or None
+        Positive margins, see the module docstring.
+    """
+    hull = S.interval_hull(path=path)
+    if hull.is_empty():
+        return None
+    lo, hi = np.asarray(hull.lo, dtype=float), np.asarray(hull.hi, dtype=float)
+    bounded = np.isfinite(lo) & np.isfinite(hi)
+    with np.errstate(invalid="ignore"):
+        width = np.where(bounded, hi - lo, 0.0)
+    magnitude = np.max(np.abs(np.vstack([p, np.where(np.isfinite(lo), lo, 0.0),
+                                         np.where(np.isfinite(hi), hi, 0.0)])), axis=0)
+    margin = tol.MEMBERSHIP_TOL * width + tol.MAGNITUDE_TOL * magnitude
+    unbounded = tol.MEMBERSHIP_TOL * np.maximum(1.0, np.abs(p))
+    return np.where(bounded, np.maximum(margin, tol.MEMBERSHIP_TOL * _TINY_SCALE), unbounded)
+
+
+def normalization(p: np.ndarray, margin: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(s, offset) of the normalized coordinates x ↦ (x − p)/s = x/s + offset, s = margin/MEMBERSHIP_TOL."""
+    s = np.maximum(np.asarray(margin, dtype=float) / tol.MEMBERSHIP_TOL, _TINY_SCALE)
+    return s, -p / s
+
+
+def generic_contains(S, p: np.ndarray, margin) -> bool:
+    """Membership by the generic CVXPY path, with a scalar or per-coordinate ∞-norm margin."""
+    if np.ndim(margin) == 0:
+        return S._generic.contains(p, float(margin))
+    from .lazy import LinearMap
+
+    s, offset = normalization(p, margin)
+    normalized = LinearMap(np.diag(1.0 / s), S, offset)
+    return normalized._generic.contains(np.zeros(S.dim), tol.MEMBERSHIP_TOL)
