@@ -83,5 +83,5 @@ def gamma(k: int) -> float:
 
 #: Relative rounding level of a set's coordinates in the default membership margin (`ConvexSet.contains`):
 #: the margin is ``MEMBERSHIP_TOL`` times the set's width plus this times the coordinates' magnitude,
-#: the rounding a chain of set operations accumulates (about 4,500 unit roundoffs).
-MAGNITUDE_TOL = 1e-12
+#: the rounding a chain of set operations accumulates (about 450 unit roundoffs).
+MAGNITUDE_TOL = 1e-13

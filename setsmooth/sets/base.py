@@ -114,7 +114,7 @@ class ConvexSet(AlgebraHooks, ABC):
             if _overrides(self, "support_vectors"):
                 points = _user_points(self, D)
             else:  # maximizers from a program; the values stay the closed form's
-                points = (cz._support(D, False) if cz is not None else self._generic.support(D))[1]
+                points = self._program_support(D)[1]
             points[~np.isfinite(values)] = np.nan
             return values, points
         if cz is not None:
@@ -188,7 +188,14 @@ class ConvexSet(AlgebraHooks, ABC):
         default computes them (the set's program).
         """
         D = as_directions(D, self.dim)
+        if _overrides(self, "support_vectors"):  # called as super().support_vectors(D)
+            return self._program_support(D)[1]
         return self._support_points(D, "auto", False)[1]
+
+    def _program_support(self, D: np.ndarray):
+        """(values, points) from a program: the CZ fast path, else the generic path."""
+        cz = self._flat_cz
+        return cz._support(D, False) if cz is not None else self._generic.support(D)
 
     @property
     def _generic(self) -> GenericProgram:
@@ -246,6 +253,10 @@ class ConvexSet(AlgebraHooks, ABC):
             thus holds no point a thousandth of its width away, and a set measured in km along one
             axis and in µm along another is judged in both units. Coordinates along which the set
             is unbounded have no own scale; they keep ``MEMBERSHIP_TOL · max(1, |p_i|)``.
+            The programs are solved in coordinates normalized by the margins, so the solver's
+            accuracy is relative to the set's size; a set whose CVXPY constraints carry auxiliary
+            variables at a large position (lazy sums and intersections of sets far from the
+            origin) is resolved only to ``SOLVER_TOL`` times that position.
         path : {'auto', 'generic'}
 
         Returns

@@ -202,14 +202,25 @@ class ConstrainedZonotope(ConvexSet):
         return self.factors.is_empty()
 
     def _contains(self, p: np.ndarray, margin) -> bool:
-        if np.ndim(margin) == 0:
-            return self._program.contains(p, float(margin))
-        # Per-coordinate margins: the distance program in normalized coordinates (x − p)/s, where
-        # the set has unit size and the margin is MEMBERSHIP_TOL (`sets.membership`); the factor
-        # set and its presolve are shared.
+        # The distance program in normalized coordinates (x − p)/s, where the set and the margin
+        # have unit size or less, so that the program's accuracy (SOLVER_TOL, with an absolute floor
+        # at 1) is relative to the set. Per-coordinate margins: s = margin / MEMBERSHIP_TOL
+        # (`sets.membership`); a scalar margin: one s for all coordinates, the largest of the
+        # margin, the generators' reach and the distance of the centre. The factor set and its
+        # presolve are shared.
         from .membership import normalization
 
-        s, offset = normalization(p, margin)
+        if np.ndim(margin) == 0:
+            hf = np.where(np.isfinite(self.h), self.h, 0.0)
+            reach = np.asarray(abs(self.G) @ hf).ravel()  # Σ_j |G_ij| h_j over bounded factors
+            sigma = max(float(margin), float(np.abs(self.c - p).max(initial=0.0)),
+                        float(reach.max(initial=0.0)))
+            if not np.isfinite(sigma) or sigma == 0.0:
+                return self._program.contains(p, float(margin))
+            s, offset = np.full(self.dim, sigma), -p / sigma
+            margin = np.full(self.dim, float(margin))
+        else:
+            s, offset = normalization(p, margin)
         G = sp.diags(1.0 / s) @ self.G if sp.issparse(self.G) else self.G / s[:, None]
         scaled = ConstrainedZonotope._trusted(G, self.c / s + offset, self.A, self.b, self.h,
                                               self.factors)

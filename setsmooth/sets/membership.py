@@ -61,11 +61,48 @@ def normalization(p: np.ndarray, margin: np.ndarray) -> tuple[np.ndarray, np.nda
 
 
 def generic_contains(S, p: np.ndarray, margin) -> bool:
-    """Membership by the generic CVXPY path, with a scalar or per-coordinate ∞-norm margin."""
+    """Membership by the generic CVXPY path, with a scalar or per-coordinate ∞-norm margin.
+
+    Per-coordinate margins are decided by min{t : x = p + s∘y ∈ S, ‖y‖∞ ≤ t, t ≥ MEMBERSHIP_TOL}
+    with s = margin/MEMBERSHIP_TOL: the set's constraints are stated at x = p + s∘y, so CVXPY folds
+    the constants (a bound lo becomes lo − p) in floating point before the solver sees them, and
+    the solver's accuracy applies to distances in units of s rather than to the coordinates'
+    magnitude (a set of width 1e-9 placed at 1 is resolved).
+    """
     if np.ndim(margin) == 0:
         return S._generic.contains(p, float(margin))
-    from .lazy import LinearMap
+    import cvxpy as cp
 
-    s, offset = normalization(p, margin)
-    normalized = LinearMap(np.diag(1.0 / s), S, offset)
-    return normalized._generic.contains(np.zeros(S.dim), tol.MEMBERSHIP_TOL)
+    from ..solvers.conic import solve_problem
+
+    from ..solvers import SolverError
+
+    s, _ = normalization(p, margin)
+    try:
+        return _normalized_distance_program(S, p, s, lambda y: p + cp.multiply(s, y), solve_problem)
+    except SolverError:
+        # The same program with x as its own variable: another conic form, which settled the
+        # badly scaled cases (widths 1e3 and 1e-6 in one set) where the first stalled.
+        def substituted(y):
+            x = cp.Variable(S.dim)
+            extra.append(x == p + cp.multiply(s, y))
+            return x
+
+        extra: list = []
+        return _normalized_distance_program(S, p, s, substituted, solve_problem, extra)
+
+
+def _normalized_distance_program(S, p, s, point, solve_problem, extra=None) -> bool:
+    import cvxpy as cp
+
+    y, t = cp.Variable(S.dim), cp.Variable()
+    x = point(y)
+    # ±y ≤ t as linear rows rather than a norm: the conic form of ‖y‖∞ ≤ t stalled on sets whose
+    # coordinates have widths 1e3 and 1e-6.
+    cons = list(S.constraints(x)) + list(extra or []) + [y <= t, -y <= t, t >= tol.MEMBERSHIP_TOL]
+    status = solve_problem(cp.Problem(cp.Minimize(t), cons), "deciding membership (generic path)",
+                           "membership")
+    if status == "infeasible":
+        return False
+    # t is in units of s, where the margin is MEMBERSHIP_TOL: the solver's accuracy is SOLVER_TOL.
+    return bool(t.value <= tol.MEMBERSHIP_TOL + tol.SOLVER_TOL)

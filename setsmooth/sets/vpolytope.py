@@ -2,7 +2,9 @@
 
 With simplex weights λ = (𝟙 + ξ)/2 ∈ [0, 1]^k, Σλ = 1, the hull of the rows v_1..v_k of V is
 
-    conv{v_i} = { Vᵀλ } = Z(G = Vᵀ/2, c = Vᵀ𝟙/2, A = 𝟙ᵀ, b = 2 − k, ξ ∈ [−1, 1]^k),
+    conv{v_i} = { Vᵀλ } = Z(G = Vᵀ/2, c = Vᵀ𝟙/2, A = 𝟙ᵀ, b = 2 − k, ξ ∈ [−1, 1]^k)
+
+(built from the points relative to their mean, the same set with generators of the polytope's size),
 
 so every query and estimator takes the CZ fast path, and the closed forms are cheap: the support
 function is a maximum over the points, the interval hull their coordinate-wise extremes, a linear
@@ -63,14 +65,22 @@ class VPolytope(ConvexSet):
         return f"VPolytope(dim={self.dim}, points={self.points.shape[0]})"
 
     def constraints(self, x: cp.Expression) -> list[cp.Constraint]:
+        # Relative to the mean m of the points, so that the data have the polytope's size (the
+        # generic path's accuracy is relative to the data, not to the position).
         lam = cp.Variable(self.points.shape[0], nonneg=True)
-        return [cp.sum(lam) == 1, x == self.points.T @ lam]
+        m = self.points.mean(axis=0)
+        return [cp.sum(lam) == 1, x - m == (self.points - m).T @ lam]
 
     def _as_constrained_zonotope(self):
         from .constrained_zonotope import ConstrainedZonotope
 
+        # Points relative to their mean m: x = m + V₀ᵀλ with V₀ = V − m, so the generators have the
+        # size of the polytope rather than of its position (the fast path's accuracy is relative
+        # to them). Σλ = 1 makes m + V₀ᵀλ = Vᵀλ; c = m + V₀ᵀ𝟙/2 = m since Σ_i V₀_i = 0 up to rounding.
         V, k = self.points, self.points.shape[0]
-        return ConstrainedZonotope._trusted(V.T / 2, V.sum(axis=0) / 2, np.ones((1, k)),
+        m = V.mean(axis=0)
+        V0 = V - m
+        return ConstrainedZonotope._trusted(V0.T / 2, m + V0.sum(axis=0) / 2, np.ones((1, k)),
                                             np.array([2.0 - k]), np.ones(k))
 
     # -- closed forms ------------------------------------------------------------------------------
