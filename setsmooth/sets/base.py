@@ -19,11 +19,12 @@ from typing import TYPE_CHECKING, Any, Sequence
 import cvxpy as cp
 import numpy as np
 
-from .. import tolerances as tol
-from .._validation import as_directions, as_matrix, as_vector, real_number
+from .._validation import as_directions, as_matrix, as_vector
 from ..solvers import GenericProgram
 from ..solvers.instances import cached_instance
+from .extension import ExtensionPoints, checked_cz_form, overrides, user_points, user_values
 from .hooks import AlgebraHooks
+from .relations import SetRelations
 
 if TYPE_CHECKING:  # pragma: no cover
     from .box import Box
@@ -33,7 +34,7 @@ if TYPE_CHECKING:  # pragma: no cover
 _PATHS = ("auto", "generic")
 
 
-class ConvexSet(AlgebraHooks, ABC):
+class ConvexSet(AlgebraHooks, ExtensionPoints, SetRelations, ABC):
     """A closed convex subset of ℝⁿ described by CVXPY constraints.
 
     Subclasses implement `constraints` and set ``dim``; every other query has a default here, and
@@ -100,8 +101,8 @@ class ConvexSet(AlgebraHooks, ABC):
     def _support_values(self, D: np.ndarray, path: str, certified: bool) -> np.ndarray:
         """Values only, trusted arguments: a user's closed form (`support_function`) without
         solving for maximizers; otherwise the values of `_support_points`."""
-        if path == "auto" and not certified and _overrides(self, "support_function"):
-            return _user_values(self, D)
+        if path == "auto" and not certified and overrides(self, "support_function"):
+            return user_values(self, D)
         return self._support_points(D, path, certified)[0]
 
     def _support(self, D: np.ndarray, certified: bool):
@@ -109,10 +110,10 @@ class ConvexSet(AlgebraHooks, ABC):
         `support_vectors`) when given, else the CZ fast path when the set flattens to a CZ, else
         the generic path."""
         cz = self._flat_cz
-        if not certified and _overrides(self, "support_function"):
-            values = _user_values(self, D)
-            if _overrides(self, "support_vectors"):
-                points = _user_points(self, D)
+        if not certified and overrides(self, "support_function"):
+            values = user_values(self, D)
+            if overrides(self, "support_vectors"):
+                points = user_points(self, D)
             else:  # maximizers from a program; the values stay the closed form's
                 points = self._program_support(D)[1]
             points[~np.isfinite(values)] = np.nan
@@ -123,79 +124,6 @@ class ConvexSet(AlgebraHooks, ABC):
             raise ValueError(f"certified support values are not available for {type(self).__name__}:"
                              " it does not flatten to a constrained zonotope")
         return self._generic.support(D)
-
-    # -- extension points (public: override these in a user representation) -------------------------
-    def as_constrained_zonotope(self) -> "ConstrainedZonotope | None":
-        """Extension point: an exact constrained-zonotope form of this set, or None.
-
-        Override it in a representation that is exactly a CZ Z(G, c, A, b, h) (smoothing paper
-        Definition 2): every query (support, emptiness, membership, interval hull) then takes the
-        sparse CZ fast path with certified values, and filters, smoothers and trajectory sets use
-        the closed forms of smoothing (35)–(37) instead of CVXPY. It is called once per set (the
-        result is kept), so it may build the matrices. Returning another set that is exactly a CZ
-        (a `Zonotope`, a bounded `Box`) is accepted. The default returns the library's private
-        hook ``_as_constrained_zonotope()`` (None for a set without an exact CZ form).
-
-        Returns
-        -------
-        ConstrainedZonotope or None
-            Must be the same set, of dimension ``dim``; None when there is no exact CZ form.
-
-        Examples
-        --------
-        >>> import numpy as np, setsmooth as ss
-        >>> class Cross(ss.ConvexSet):  # the ℓ1 ball of ℝ² = the zonotope of (1, 1) and (1, −1) halved
-        ...     dim = 2
-        ...     def constraints(self, x):
-        ...         import cvxpy as cp
-        ...         return [cp.norm1(x) <= 1]
-        ...     def as_constrained_zonotope(self):
-        ...         return ss.ConstrainedZonotope(0.5 * np.array([[1.0, 1.0], [1.0, -1.0]]), np.zeros(2))
-        >>> round(Cross().support([1.0, 0.0]), 9)
-        1.0
-        """
-        return self._as_constrained_zonotope()
-
-    def support_function(self, D: np.ndarray) -> np.ndarray:
-        """Extension point: the support values h_S(d) = sup_{x∈S} dᵀx of every row d of ``D``.
-
-        Override it in a representation with a closed-form support function: `support`,
-        `support_many`, `interval_hull`, `diameter`, containment tests and the lazy algebra (sums,
-        linear maps, products of this set) then use it instead of a convex program. Override
-        `support_vectors` too when the maximizers are known in closed form; otherwise they come
-        from a program when a query needs them (`support_point`, `vertices_2d`, plotting). Called
-        with a trusted float array of shape (k, dim); must return shape (k,) (``+inf`` along
-        unbounded directions, ``-inf`` for an empty set). Certified queries (``certified=True``)
-        use the CZ fast path when the set has one, never this override.
-
-        The default (not overridden) computes the values by the set's own programs.
-
-        Parameters
-        ----------
-        D : ndarray, shape (k, dim)
-            Directions, one per row.
-
-        Returns
-        -------
-        ndarray, shape (k,)
-        """
-        return self.support_many(D)
-
-    def support_vectors(self, D: np.ndarray) -> np.ndarray:
-        """Extension point: a maximizer of dᵀx over the set for every row d of ``D``, shape (k, dim).
-
-        Override it together with `support_function` when the maximizers have a closed form. The
-        default computes them (the set's program).
-        """
-        D = as_directions(D, self.dim)
-        if _overrides(self, "support_vectors"):  # called as super().support_vectors(D)
-            return self._program_support(D)[1]
-        return self._support_points(D, "auto", False)[1]
-
-    def _program_support(self, D: np.ndarray):
-        """(values, points) from a program: the CZ fast path, else the generic path."""
-        cz = self._flat_cz
-        return cz._support(D, False) if cz is not None else self._generic.support(D)
 
     @property
     def _generic(self) -> GenericProgram:
@@ -208,7 +136,7 @@ class ConvexSet(AlgebraHooks, ABC):
         cz = self.as_constrained_zonotope()
         if cz is None or cz is self:
             return cz
-        return _checked_cz_form(self, cz)
+        return checked_cz_form(self, cz)
 
     def _as_constrained_zonotope(self) -> "ConstrainedZonotope | None":
         """Hook: an exact CZ representation of this set, or None when there is none."""
@@ -237,101 +165,6 @@ class ConvexSet(AlgebraHooks, ABC):
     def _is_empty(self) -> bool:
         cz = self._flat_cz
         return cz._is_empty() if cz is not None else self._generic.is_empty()
-
-    def contains(self, point: Any, tol: float | None = None, *, path: str = "auto") -> bool:
-        """Whether ``point`` lies in the set, up to a margin.
-
-        Parameters
-        ----------
-        point : array_like, shape (dim,)
-        tol : float, optional
-            Absolute ∞-norm margin: True when some member lies within ``tol`` of ``point``. By
-            default the margin is relative to the set's own scale, per coordinate
-            (`setsmooth.sets.membership.default_margins`): ``MEMBERSHIP_TOL`` times the width of
-            the set's interval hull in that coordinate, plus ``MAGNITUDE_TOL`` times the
-            coordinates' magnitude (the rounding the set algebra accumulates). A box of width 1e-9
-            thus holds no point a thousandth of its width away, and a set measured in km along one
-            axis and in µm along another is judged in both units. Coordinates along which the set
-            is unbounded have no own scale; they keep ``MEMBERSHIP_TOL · max(1, |p_i|)``.
-            The programs are solved in coordinates normalized by the margins, so the solver's
-            accuracy is relative to the set's size; a set whose CVXPY constraints carry auxiliary
-            variables at a large position (lazy sums and intersections of sets far from the
-            origin) is resolved only to ``SOLVER_TOL`` times that position.
-        path : {'auto', 'generic'}
-
-        Returns
-        -------
-        bool
-
-        Examples
-        --------
-        >>> import setsmooth as ss
-        >>> tiny = ss.Box([0.0], [1e-9])
-        >>> tiny.contains([0.5e-9]), tiny.contains([50e-9]), [50e-9] in tiny
-        (True, False, False)
-        """
-        from .membership import default_margins
-
-        p = as_vector(point, "point", self.dim)
-        path = self._check_path(path)
-        margin = self._margin(p, tol) if tol is not None else default_margins(self, p, path)
-        if margin is None:  # the set is empty
-            return False
-        if path == "generic":
-            from .membership import generic_contains
-
-            return generic_contains(self, p, margin)
-        return self._contains(p, margin)
-
-    def __contains__(self, point: Any) -> bool:
-        """``point in S``: `contains` with the default, scale-relative margin."""
-        if isinstance(point, ConvexSet):
-            raise TypeError("`in` tests membership of a point; for sets use S.is_subset(T) or S <= T")
-        return self.contains(point)
-
-    def _contains(self, p: np.ndarray, margin: "float | np.ndarray") -> bool:
-        """Hook: membership with an ∞-norm margin, a float or one per coordinate (shape (dim,))."""
-        from .membership import generic_contains
-
-        cz = self._flat_cz
-        return cz._contains(p, margin) if cz is not None else generic_contains(self, p, margin)
-
-    @staticmethod
-    def _margin(p: np.ndarray, given: float) -> float:
-        value = real_number(given, "tol")
-        if not np.isfinite(value) or value < 0:
-            raise ValueError(f"tol must be a finite non-negative number, got {given}")
-        return value
-
-    # -- containment and differences (setsmooth.sets.containment, setsmooth.sets.difference) ---------
-    def is_subset(self, other: "ConvexSet", tol: float | None = None):
-        """Whether this set is contained in ``other``: see `setsmooth.sets.containment.is_subset`.
-
-        Returns a `Containment` (truthy when containment is established), which says whether the
-        test was exact or only sufficient.
-        """
-        from .containment import is_subset
-
-        return is_subset(self, other, tol=tol)
-
-    def __le__(self, other):
-        if not isinstance(other, ConvexSet):
-            return NotImplemented
-        return self.is_subset(other)
-
-    def __ge__(self, other):
-        if not isinstance(other, ConvexSet):
-            return NotImplemented
-        return other.is_subset(self)
-
-    def pontryagin_difference(self, other: "ConvexSet", method: str = "exact") -> "ConvexSet":
-        """{x : x + other ⊆ self}: see `setsmooth.sets.difference.pontryagin_difference`.
-
-        Not the same as ``self - other``, which is the Minkowski sum self ⊕ (−other).
-        """
-        from .difference import pontryagin_difference
-
-        return pontryagin_difference(self, other, method=method)
 
     # -- derived geometry ----------------------------------------------------------------------------
     def interval_hull(self, *, path: str = "auto",
@@ -601,42 +434,3 @@ def _as_dims(dims: Sequence[int], n: int) -> np.ndarray:
     if idx.size == 0 or (idx < 0).any() or (idx >= n).any():
         raise ValueError(f"dims must be non-empty indices in [0, {n}), got {list(idx)}")
     return idx
-
-
-def _overrides(S: ConvexSet, name: str) -> bool:
-    """Whether the class of ``S`` overrides the public extension point ``name``."""
-    return getattr(type(S), name) is not getattr(ConvexSet, name)
-
-
-def _user_values(S: ConvexSet, D: np.ndarray) -> np.ndarray:
-    values = np.asarray(S.support_function(D), dtype=float).reshape(-1)
-    if values.shape != (D.shape[0],) or np.isnan(values).any():
-        raise ValueError(f"{type(S).__name__}.support_function must return {D.shape[0]} values "
-                         f"(one per direction, no NaN), got shape {np.shape(values)}")
-    return values
-
-
-def _user_points(S: ConvexSet, D: np.ndarray) -> np.ndarray:
-    points = np.array(S.support_vectors(D), dtype=float)
-    if points.shape != D.shape:
-        raise ValueError(f"{type(S).__name__}.support_vectors must return shape {D.shape} "
-                         f"(one point per direction), got {points.shape}")
-    return points
-
-
-def _checked_cz_form(S: ConvexSet, cz: Any) -> "ConstrainedZonotope":
-    """The CZ a user's `as_constrained_zonotope` returned, checked at the door."""
-    from .constrained_zonotope import ConstrainedZonotope
-
-    what = f"{type(S).__name__}.as_constrained_zonotope()"
-    if isinstance(cz, ConvexSet) and not isinstance(cz, ConstrainedZonotope):
-        inner = cz._flat_cz
-        if inner is None:
-            raise TypeError(f"{what} returned a {type(cz).__name__}, which is not exactly a "
-                            "constrained zonotope; return a ConstrainedZonotope (or None)")
-        cz = inner
-    if not isinstance(cz, ConstrainedZonotope):
-        raise TypeError(f"{what} must return a ConstrainedZonotope or None, got {type(cz).__name__}")
-    if cz.dim != S.dim:
-        raise ValueError(f"{what} returned a set of dimension {cz.dim}; the set has dim = {S.dim}")
-    return cz
