@@ -51,6 +51,17 @@ def test_vpolytope_algebra_stays_a_vpolytope_and_matches_the_cz_algebra():
         [[0, 0], [1, 0], [1, 0.5], [0, 1]]).volume, abs=1e-6)
 
 
+def test_vpolytope_is_immutable_and_pickles():
+    import pickle
+
+    P = ss.VPolytope([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+    P.contains([0.2, 0.2])  # caches derived data, which must not travel
+    Q = pickle.loads(pickle.dumps(P))
+    assert Q.support([1.0, 1.0]) == 1.0 and not Q.points.flags.writeable
+    with pytest.raises(ValueError):
+        P.points[0, 0] = 5.0
+
+
 def test_vpolytope_refuses_bad_points():
     with pytest.raises(ValueError, match="at least one point"):
         ss.VPolytope(np.zeros((0, 2)))
