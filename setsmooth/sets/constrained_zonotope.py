@@ -217,14 +217,16 @@ class ConstrainedZonotope(ConvexSet):
                         float(reach.max(initial=0.0)))
             if not np.isfinite(sigma) or sigma == 0.0:
                 return self._program.contains(p, float(margin))
-            s, offset = np.full(self.dim, sigma), -p / sigma
-            margin = np.full(self.dim, float(margin))
-        else:
-            s, offset = normalization(p, margin)
+            return self._contains_normalized(p, np.full(self.dim, sigma), float(margin) / sigma)
+        s, _ = normalization(p, margin)
+        return self._contains_normalized(p, s, float(np.max(margin / s)))
+
+    def _contains_normalized(self, p: np.ndarray, s: np.ndarray, margin: float) -> bool:
+        """Whether a member lies within ∞-distance ``margin`` of p in the coordinates (x − p)/s."""
         G = sp.diags(1.0 / s) @ self.G if sp.issparse(self.G) else self.G / s[:, None]
-        scaled = ConstrainedZonotope._trusted(G, self.c / s + offset, self.A, self.b, self.h,
+        scaled = ConstrainedZonotope._trusted(G, (self.c - p) / s, self.A, self.b, self.h,
                                               self.factors)
-        return scaled._program.contains(np.zeros(self.dim), float(np.max(margin / s)))
+        return scaled._program.contains(np.zeros(self.dim), margin)
 
     def chebyshev_ball(self):
         """The largest Euclidean ball inside the CZ (`setsmooth.sets.chebyshev.chebyshev_ball`).

@@ -56,6 +56,9 @@ class HPolytope(ConvexSet):
             return []
         return [self.H @ x <= self.k]
 
+    #: `_contains` is a closed form (no solver accuracy): `membership.settled_without_hull` may use it.
+    _exact_membership_form = True
+
     def _contains(self, p: np.ndarray, margin) -> bool:
         # An ∞-norm margin m around the point (a float or one per coordinate) relaxes row i by
         # Σ_j |H_ij| m_j.

@@ -54,6 +54,50 @@ def default_margins(S, p: np.ndarray, path: str = "auto") -> np.ndarray | None:
     return np.where(bounded, np.maximum(margin, tol.MEMBERSHIP_TOL * _TINY_SCALE), unbounded)
 
 
+def settled_without_hull(S, p: np.ndarray) -> bool | None:
+    """The default membership verdict when two cheap programs settle it, else None.
+
+    The interval hull behind `default_margins` costs 2·dim support programs when the set has no
+    closed form for it (a constrained zonotope, an H-polytope); most points are settled without it:
+
+    * inside with margin 0 ⟹ inside with any margin (one program);
+    * for a CZ with bounded factors, outside with the margins of its generator box c ± Σ_j|G_ij|h_j
+      (which contains the set, so its widths bound the hull's) ⟹ outside with the hull's margins.
+
+    Only points within that bound of the boundary need the hull. Applies to sets whose membership
+    program is solved in the set's own scale (CZ forms) or in closed form (H-polytopes); None for the
+    others, and when the hull is cheap or already known.
+    """
+    hulls = getattr(S, "__dict__", {}).get("_interval_hulls", {})
+    if ("auto", None) in hulls or _has_closed_form_hull(S):
+        return None
+    cz = S._flat_cz
+    if cz is None:
+        if getattr(S, "_exact_membership_form", False) and S._contains(p, 0.0):
+            return True
+        return None
+    h = np.asarray(cz.h)
+    if not np.all(np.isfinite(h)):
+        return None
+    # Per coordinate, the generator box's half-width bounds the set's: the programs below run in
+    # coordinates scaled by it, so a set thin along one axis is judged in that axis's units.
+    reach = np.asarray(abs(cz.G) @ h).ravel()
+    magnitude = np.maximum(np.abs(p), np.abs(cz.c) + reach)
+    scale = np.maximum(reach, np.maximum(tol.MAGNITUDE_TOL * magnitude, _TINY_SCALE))
+    if cz._contains_normalized(p, scale, 0.0):
+        return True
+    upper = tol.MEMBERSHIP_TOL * 2 * reach + tol.MAGNITUDE_TOL * magnitude
+    if not cz._contains(p, np.maximum(upper, tol.MEMBERSHIP_TOL * _TINY_SCALE)):
+        return False
+    return None
+
+
+def _has_closed_form_hull(S) -> bool:
+    from .base import ConvexSet
+
+    return type(S).interval_hull is not ConvexSet.interval_hull
+
+
 def normalization(p: np.ndarray, margin: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(s, offset) of the normalized coordinates x ↦ (x − p)/s = x/s + offset, s = margin/MEMBERSHIP_TOL."""
     s = np.maximum(np.asarray(margin, dtype=float) / tol.MEMBERSHIP_TOL, _TINY_SCALE)

@@ -53,10 +53,14 @@ class SetRelations:
         >>> tiny.contains([0.5e-9]), tiny.contains([50e-9]), [50e-9] in tiny
         (True, False, False)
         """
-        from .membership import default_margins
+        from .membership import default_margins, settled_without_hull
 
         p = as_vector(point, "point", self.dim)
         path = self._check_path(path)
+        if tol is None and path == "auto":
+            verdict = settled_without_hull(self, p)
+            if verdict is not None:
+                return verdict
         margin = self._margin(p, tol) if tol is not None else default_margins(self, p, path)
         if margin is None:  # the set is empty
             return False

@@ -111,3 +111,26 @@ def test_unbounded_coordinates_keep_an_absolute_margin():
 def test_in_refuses_a_set_operand():
     with pytest.raises(TypeError, match="is_subset"):
         ss.Box([0], [1]) in ss.Box([0], [2])
+
+
+def test_cheap_verdicts_agree_with_the_hull_margins_and_skip_the_hull():
+    from setsmooth.sets.membership import default_margins
+
+    rng = np.random.default_rng(11)
+    skipped = 0
+    for trial in range(12):
+        G = rng.standard_normal((3, 6)) * np.array([[1e3], [1.0], [1e-4]])  # badly scaled rows
+        Z = ss.ConstrainedZonotope(G, rng.standard_normal(3), rng.standard_normal((1, 6)), [0.2])
+        if Z.is_empty():
+            continue
+        d = rng.standard_normal(3)
+        point = Z.support_point(d)
+        hull = Z.interval_hull()
+        width = hull.hi - hull.lo
+        for step in (-1e-3, -1e-8, 1e-8, 1e-3, 10.0):  # along d, in units of the widths
+            p = point + step * width * np.sign(d)
+            fresh = ss.ConstrainedZonotope(Z.G, Z.c, Z.A, Z.b, Z.h)
+            verdict = fresh.contains(p)
+            skipped += "_interval_hulls" not in fresh.__dict__
+            assert verdict == Z._contains(p, default_margins(Z, p)), (trial, step)
+    assert skipped >= 30  # most points are settled without the 2·dim hull programs
