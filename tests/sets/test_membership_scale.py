@@ -134,3 +134,13 @@ def test_cheap_verdicts_agree_with_the_hull_margins_and_skip_the_hull():
             skipped += "_interval_hulls" not in fresh.__dict__
             assert verdict == Z._contains(p, default_margins(Z, p)), (trial, step)
     assert skipped >= 30  # most points are settled without the 2·dim hull programs
+
+
+@pytest.mark.parametrize("sname", list(SCALINGS))
+def test_ellipsoid_margins_follow_its_axes(sname):
+    scale, offset = SCALINGS[sname]
+    E = ss.Ellipsoid(offset + scale / 2, np.diag((scale / 2) ** 2))  # inscribed in the square
+    for path in ("auto", "generic"):
+        for u, inside in (([0.5, 0.5], True), ([0.999, 0.5], True), ([0.5, 0.001], True),
+                          ([1.001, 0.5], False), ([0.5, -0.001], False), ([0.9, 0.9], False)):
+            assert E.contains(_point(scale, offset, u), path=path) == inside, (path, u)
