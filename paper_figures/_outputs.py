@@ -10,7 +10,10 @@ A figure script ``<paper>_<figure>.py`` in this directory defines
 
 The JSON written by `finish` holds the plotted numbers plus the keys the report reads: ``paper``,
 ``figure``, ``rows`` (made by `row`: a published value or claim beside ours), ``settings``,
-``published``, ``notes``, ``wall_time_s`` and ``cpu_time_s``. ``setsmooth figures`` (`setsmooth.cli`)
+``published``, ``notes``, ``wall_time_s`` and ``cpu_time_s``. Every figure is written as ``<NAME>.png``
+(the report embeds it) and also in the vector formats named by ``$SETSMOOTH_FIGURE_FORMATS``
+(comma-separated, from ``setsmooth figures --format pdf,svg`` or a script's own ``--format``): PDF and
+SVG for papers. ``setsmooth figures`` (`setsmooth.cli`)
 runs the scripts and then ``report.py``, which groups the rows by paper; each paper's conventions
 (``REPORT_PREAMBLE``, ``PAPER_TITLE``) live in its ``_<paper>_examples.py``.
 """
@@ -19,13 +22,21 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import time
 from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
 
+from setsmooth.cli import FORMATS_ENV, parse_formats
+
 DEFAULT_OUT = Path(__file__).resolve().parent / "out"
+
+
+def figure_formats() -> tuple[str, ...]:
+    """The formats to write: PNG plus those of ``$SETSMOOTH_FIGURE_FORMATS`` (`setsmooth.cli`)."""
+    return tuple(parse_formats(os.environ.get(FORMATS_ENV, "")))
 
 
 class Stopwatch:
@@ -66,15 +77,25 @@ def finish(out: Path | None, name: str, paper: str, fig, data: dict, clock: Stop
 
 
 def write_outputs(out: Path | None, name: str, fig, data: dict) -> dict:
-    """Write ``<name>.png`` and ``<name>.json`` to ``out`` (default ``paper_figures/out``); return ``data``."""
+    """Write ``<name>.png`` (plus the vector formats of `figure_formats`) and ``<name>.json`` to
+    ``out`` (default ``paper_figures/out``); return ``data``."""
     out = Path(out) if out is not None else DEFAULT_OUT
     out.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out / f"{name}.png", dpi=150, bbox_inches="tight")
+    for fmt in figure_formats():
+        # Vector formats keep text as text (fonttype 42 in PDF/EPS), so a paper's fonts can be edited.
+        with _vector_fonts():
+            fig.savefig(out / f"{name}.{fmt}", dpi=150, bbox_inches="tight", format=fmt)
     import matplotlib.pyplot as plt
 
     plt.close(fig)
     (out / f"{name}.json").write_text(json.dumps(jsonable(data), indent=1))
     return data
+
+
+def _vector_fonts():
+    import matplotlib
+
+    return matplotlib.rc_context({"pdf.fonttype": 42, "ps.fonttype": 42, "svg.fonttype": "none"})
 
 
 def jsonable(obj: Any) -> Any:
@@ -103,7 +124,12 @@ def cli(main: Callable[..., dict], default_runs: int, description: str) -> None:
     parser.add_argument("--seed", type=int, default=0, help="root seed (default 0)")
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="output directory")
     parser.add_argument("--workers", type=int, default=None, help="processes (default: 2)")
+    parser.add_argument("--format", default="", help="extra formats besides PNG, e.g. pdf,svg")
     args = parser.parse_args()
+    try:
+        os.environ[FORMATS_ENV] = ",".join(parse_formats(args.format))
+    except ValueError as exc:
+        parser.error(str(exc))
     result = main(runs=args.runs, seed=args.seed, out=args.out, workers=args.workers)
     for r in result["rows"]:
         print(f"{r['quantity']}: paper {r['paper']} | ours {r['ours']}")

@@ -20,7 +20,8 @@ _EXPORTS = {
                      "GeneralizedIntersection", "CartesianProduct", "reduce", "ReductionMethod",
                      "DropZeros", "DropDependentConstraints", "MergeParallelGenerators", "Rescale",
                      "EliminateConstraints", "Girard", "Combastel", "IntervalHull", "CORA_GIRARD",
-                     "CORA_COMBASTEL"], ".sets"),
+                     "CORA_COMBASTEL", "VPolytope", "Containment", "is_subset",
+                     "pontryagin_difference", "ChebyshevBall"], ".sets"),
     "SolverError": ".solvers",
     **dict.fromkeys(["LinearSystem", "NonlinearSystem", "simulate"], ".systems"),
     **dict.fromkeys(["classical_filter", "interval_filter", "kalman_filter", "rts_smoother",
@@ -58,6 +59,7 @@ __all__ = [
     "optimal_joint_smoother", "augment_identical_process_noise", "sampled_optimal_filter",
     "classical_interval_filter", "SampledRanges", "rethinking_examples",
     "SetEstimates", "references",
+    "CORA_COMBASTEL", "VPolytope", "Containment", "is_subset", "pontryagin_difference", "ChebyshevBall",
 ]
 
 
@@ -89,6 +91,7 @@ if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
     from .sets import (CORA_COMBASTEL, CORA_GIRARD, Combastel, DropDependentConstraints, DropZeros,
                        EliminateConstraints, Girard, IntervalHull, MergeParallelGenerators,
                        ReductionMethod, Rescale, reduce)
+    from .sets import ChebyshevBall, Containment, VPolytope, is_subset, pontryagin_difference
     from .smoothers import interval_smoother, optimal_smoother
     from .solvers import SolverError
     from .systems import LinearSystem, NonlinearSystem, simulate

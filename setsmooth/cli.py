@@ -1,4 +1,4 @@
-"""Command line: ``setsmooth figures [NAME...] [--runs N] [--out DIR] [--seed S] [--workers W | --scheduler ADDRESS]``.
+"""Command line: ``setsmooth figures [NAME...] [--runs N] [--out DIR] [--seed S] [--workers W | --scheduler ADDRESS] [--format pdf,svg]``.
 
 Regenerates the paper figures. The scripts live in the repository's ``paper_figures/`` directory,
 outside the package; it is looked for in ``$SETSMOOTH_FIGURES_DIR``, then in the working directory and
@@ -13,6 +13,9 @@ sets every figure to N runs, except that Fig. 4 uses min(N, 100) runs per pair, 
 ``--scheduler ADDRESS`` sends the runs to a Dask cluster instead of local processes (the
 ``setsmooth[dask]`` extra; every worker needs ``setsmooth`` installed). Results are bit-identical to a
 local run: run i always uses the i-th child of the root seed.
+
+Formats: every figure is written as PNG (the report embeds it); ``--format pdf,svg`` writes vector
+copies beside it for a paper (PDF, SVG or EPS; text kept as text).
 """
 
 from __future__ import annotations
@@ -26,6 +29,10 @@ import traceback
 from pathlib import Path
 
 ENV_VAR = "SETSMOOTH_FIGURES_DIR"
+#: Read by ``paper_figures/_outputs.py``: the extra formats of every figure (comma-separated).
+FORMATS_ENV = "SETSMOOTH_FIGURE_FORMATS"
+#: The formats ``--format`` accepts besides PNG (kept equal to ``_outputs.FORMATS``).
+FORMATS = ("png", "pdf", "svg", "eps")
 FIGURES_DIRNAME = "paper_figures"
 REPORT_MODULE = "report"
 
@@ -80,15 +87,45 @@ def select(available: list[str], requested: list[str]) -> list[str]:
     return chosen
 
 
+def parse_formats(text: str) -> list[str]:
+    """The formats of ``--format`` (comma-separated), PNG first and always.
+
+    Raises
+    ------
+    ValueError
+        For an unknown format, naming the known ones.
+    """
+    asked = [f.strip().lower().lstrip(".") for f in text.split(",") if f.strip()]
+    unknown = [f for f in asked if f not in FORMATS]
+    if unknown:
+        raise ValueError(f"unknown --format {', '.join(unknown)}; choose from {', '.join(FORMATS)}")
+    return list(dict.fromkeys(["png", *asked]))
+
+
 def run_figures(names: list[str], figures_dir: Path, out: Path, runs: int | None, seed: int,
-                workers: int | None, progress: bool, executor=None) -> tuple[dict, Path]:
+                workers: int | None, progress: bool, executor=None,
+                formats: list[str] | None = None) -> tuple[dict, Path]:
     """Run the named figure scripts, then write the report; return (wall times or errors, report path).
 
     ``executor`` (a `concurrent.futures.Executor` or a ``dask.distributed.Client``) is passed to every
     script's ``main`` and so to `setsmooth.montecarlo.run`; None lets each script start its own pool.
     A Dask client's workers first receive the figure scripts (``Client.upload_file``): they unpickle
     the trials by module name, and a remote worker has only the installed ``setsmooth``.
+    ``formats``: the image formats of every figure (PNG always; e.g. ``['png', 'pdf']``), passed
+    to the scripts' `_outputs.write_outputs` through ``$SETSMOOTH_FIGURE_FORMATS`` for this call.
     """
+    previous = os.environ.get(FORMATS_ENV)
+    os.environ[FORMATS_ENV] = ",".join(formats or ["png"])
+    try:
+        return _run_figures(names, figures_dir, out, runs, seed, workers, progress, executor)
+    finally:
+        if previous is None:
+            os.environ.pop(FORMATS_ENV, None)
+        else:
+            os.environ[FORMATS_ENV] = previous
+
+
+def _run_figures(names, figures_dir, out, runs, seed, workers, progress, executor):
     if str(figures_dir) not in sys.path:
         # The scripts import their sibling helpers, and pool workers unpickle trials by module name.
         sys.path.insert(0, str(figures_dir))
@@ -143,7 +180,14 @@ def main(argv: list[str] | None = None) -> int:
                               "tcp://10.0.0.5:8786; needs the setsmooth[dask] extra)")
     figures.add_argument("--no-progress", action="store_true", help="hide the progress bars")
     figures.add_argument("--list", action="store_true", help="list the figure scripts and exit")
+    figures.add_argument("--format", default="", metavar="FMT[,FMT]",
+                         help="vector copies of every figure besides the PNG: pdf, svg, eps "
+                              "(comma-separated, e.g. pdf,svg)")
     args = parser.parse_args(argv)
+    try:
+        formats = parse_formats(args.format)
+    except ValueError as exc:
+        parser.error(str(exc))
 
     if args.runs is not None and args.runs < 1:
         parser.error("--runs must be at least 1")
@@ -177,7 +221,7 @@ def main(argv: list[str] | None = None) -> int:
             return 2
     try:
         outcome, report = run_figures(names, figures_dir, out, args.runs, args.seed, args.workers,
-                                      not args.no_progress, executor=client)
+                                      not args.no_progress, executor=client, formats=formats)
     finally:
         if client is not None:
             client.close()

@@ -95,3 +95,7 @@ UPSILON_GAMMA_TOL = 1e-6
 #: `scipy.linalg.expm` when bounding a continuous-time noise integral (`setsmooth.discretization`);
 #: the bound uses the larger of this and the observed disagreement between e^{Aτ_j} and e^{Aδ/2}(e^{Aδ})^j.
 EXPM_RELATIVE_ERROR = 1e-13
+#: Relative rounding level of a set's coordinates in the default membership margin (`ConvexSet.contains`):
+#: the margin is ``MEMBERSHIP_TOL`` times the set's width plus this times the coordinates' magnitude,
+#: the rounding a chain of set operations accumulates (about 450 unit roundoffs).
+MAGNITUDE_TOL = 1e-13

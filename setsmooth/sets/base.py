@@ -1,9 +1,13 @@
 """`ConvexSet`: a set is anything that can state "x is in me" as CVXPY constraints.
 
-Every query is derived here once, through the generic CVXPY path of `setsmooth.solvers`. A
-representation overrides the private hooks (``_support``, ``_is_empty``, ``_contains``,
-``_as_constrained_zonotope`` ...) where it knows a closed form or a faster program; the public methods
-validate arguments once and dispatch.
+Every query is derived here once, through the generic CVXPY path of `setsmooth.solvers`.
+
+Extension points for users (public, documented, stable): `ConvexSet.as_constrained_zonotope` (the set
+is exactly a constrained zonotope: every query and estimator then takes the CZ fast path) and
+`ConvexSet.support_function` / `ConvexSet.support_vectors` (a closed-form support function). The
+library's own representations override private hooks (``_support``, ``_is_empty``, ``_contains``,
+``_as_constrained_zonotope`` ...) where they know a closed form or a faster program; the private
+``_as_constrained_zonotope`` stays the default of the public hook, so both spellings work.
 """
 
 from __future__ import annotations
@@ -15,11 +19,12 @@ from typing import TYPE_CHECKING, Any, Sequence
 import cvxpy as cp
 import numpy as np
 
-from .. import tolerances as tol
-from .._validation import as_directions, as_matrix, as_vector, real_number
+from .._validation import as_directions, as_matrix, as_vector
 from ..solvers import GenericProgram
 from ..solvers.instances import cached_instance
+from .extension import ExtensionPoints, checked_cz_form, overrides, user_points, user_values
 from .hooks import AlgebraHooks
+from .relations import SetRelations
 
 if TYPE_CHECKING:  # pragma: no cover
     from .box import Box
@@ -29,7 +34,7 @@ if TYPE_CHECKING:  # pragma: no cover
 _PATHS = ("auto", "generic")
 
 
-class ConvexSet(AlgebraHooks, ABC):
+class ConvexSet(AlgebraHooks, ExtensionPoints, SetRelations, ABC):
     """A closed convex subset of ℝⁿ described by CVXPY constraints.
 
     Subclasses implement `constraints` and set ``dim``; every other query has a default here, and
@@ -77,7 +82,7 @@ class ConvexSet(AlgebraHooks, ABC):
     def support_many(self, D: Any, *, path: str = "auto", certified: bool = False) -> np.ndarray:
         """Support values for every row of ``D`` (shape (k, dim)); see `support`."""
         D = as_directions(D, self.dim)
-        return self._support_points(D, self._check_path(path), certified)[0]
+        return self._support_values(D, self._check_path(path), certified)
 
     def support_point(self, d: Any, *, path: str = "auto") -> np.ndarray:
         """A maximizer of dᵀx over the set (NaN entries when the support is infinite)."""
@@ -93,9 +98,26 @@ class ConvexSet(AlgebraHooks, ABC):
             return self._generic.support(D)
         return self._support(D, certified)
 
+    def _support_values(self, D: np.ndarray, path: str, certified: bool) -> np.ndarray:
+        """Values only, trusted arguments: a user's closed form (`support_function`) without
+        solving for maximizers; otherwise the values of `_support_points`."""
+        if path == "auto" and not certified and overrides(self, "support_function"):
+            return user_values(self, D)
+        return self._support_points(D, path, certified)[0]
+
     def _support(self, D: np.ndarray, certified: bool):
-        """Hook: (values, points). Default: the CZ fast path when the set flattens to a CZ."""
+        """Hook: (values, points). Default: the user's closed form (`support_function`,
+        `support_vectors`) when given, else the CZ fast path when the set flattens to a CZ, else
+        the generic path."""
         cz = self._flat_cz
+        if not certified and overrides(self, "support_function"):
+            values = user_values(self, D)
+            if overrides(self, "support_vectors"):
+                points = user_points(self, D)
+            else:  # maximizers from a program; the values stay the closed form's
+                points = self._program_support(D)[1]
+            points[~np.isfinite(values)] = np.nan
+            return values, points
         if cz is not None:
             return cz._support(D, certified)
         if certified:
@@ -111,7 +133,10 @@ class ConvexSet(AlgebraHooks, ABC):
 
     @cached_property
     def _flat_cz(self) -> "ConstrainedZonotope | None":
-        return self._as_constrained_zonotope()
+        cz = self.as_constrained_zonotope()
+        if cz is None or cz is self:
+            return cz
+        return checked_cz_form(self, cz)
 
     def _as_constrained_zonotope(self) -> "ConstrainedZonotope | None":
         """Hook: an exact CZ representation of this set, or None when there is none."""
@@ -140,34 +165,6 @@ class ConvexSet(AlgebraHooks, ABC):
     def _is_empty(self) -> bool:
         cz = self._flat_cz
         return cz._is_empty() if cz is not None else self._generic.is_empty()
-
-    def contains(self, point: Any, tol: float | None = None, *, path: str = "auto") -> bool:
-        """Whether ``point`` lies in the set, up to an ∞-norm margin.
-
-        Parameters
-        ----------
-        point : array_like, shape (dim,)
-        tol : float, optional
-            Absolute ∞-norm margin; defaults to ``MEMBERSHIP_TOL`` scaled by the point's magnitude.
-        """
-        p = as_vector(point, "point", self.dim)
-        margin = self._margin(p, tol)
-        if self._check_path(path) == "generic":
-            return self._generic.contains(p, margin)
-        return self._contains(p, margin)
-
-    def _contains(self, p: np.ndarray, margin: float) -> bool:
-        cz = self._flat_cz
-        return cz._contains(p, margin) if cz is not None else self._generic.contains(p, margin)
-
-    @staticmethod
-    def _margin(p: np.ndarray, given: float | None) -> float:
-        if given is None:
-            return tol.scaled(tol.MEMBERSHIP_TOL, np.abs(p).max(initial=0.0))
-        value = real_number(given, "tol")
-        if not np.isfinite(value) or value < 0:
-            raise ValueError(f"tol must be a finite non-negative number, got {given}")
-        return value
 
     # -- derived geometry ----------------------------------------------------------------------------
     def interval_hull(self, *, path: str = "auto",
@@ -233,8 +230,10 @@ class ConvexSet(AlgebraHooks, ABC):
         method : {'interval_hull', 'chebyshev', 'closest'}
             'interval_hull': centre of the interval hull, which is also the ∞-norm Chebyshev centre
             (the point minimizing the worst-case ∞-norm error over the set).
-            'chebyshev': centre of the largest inscribed Euclidean ball (sets with an H-representation
-            and ellipsoids).
+            'chebyshev': centre of the largest inscribed Euclidean ball (sets with an H-representation,
+            ellipsoids, and sets that flatten to a constrained zonotope: see
+            `ConstrainedZonotope.chebyshev_ball`, exact in 2-D and for zonotopes, an inner ball
+            otherwise).
             'closest': the member closest to ``reference`` in the given ``norm`` (LSU paper,
             Method 2): one Clarabel program on the factor set when the set flattens to a
             constrained zonotope and ``norm`` is 1, 2 or inf (`solvers.closest`), the generic CVXPY
@@ -275,9 +274,13 @@ class ConvexSet(AlgebraHooks, ABC):
         return closest_point(cz.G, cz.c, cz.A, cz.b, cz.h, reference, p)
 
     def _chebyshev_center(self) -> np.ndarray:
+        cz = self._flat_cz
+        if cz is not None:
+            return cz.chebyshev_ball().center
         raise NotImplementedError(
-            f"the inscribed-ball Chebyshev centre needs an H-representation; {type(self).__name__} "
-            "has none (use center('interval_hull'), the ∞-norm Chebyshev centre)")
+            f"the inscribed-ball Chebyshev centre needs an H-representation or a constrained-zonotope "
+            f"form; {type(self).__name__} has neither (use center('interval_hull'), the ∞-norm "
+            "Chebyshev centre)")
 
     def vertices_2d(self) -> np.ndarray:
         """Vertices of a bounded 2-D set in counter-clockwise order (see `setsmooth.sets.polygon`)."""
@@ -292,7 +295,17 @@ class ConvexSet(AlgebraHooks, ABC):
         return polygon_area(self.vertices_2d())
 
     def plot(self, ax=None, dims: Sequence[int] = (0, 1), **kwargs):
-        """Draw the 2-D projection onto ``dims`` as a matplotlib patch and return the patch."""
+        """Draw the projection onto ``dims`` and return the matplotlib artist.
+
+        Two ``dims``: a `matplotlib.patches.Polygon` on a 2-D axes (`polygon.plot_set`). Three
+        ``dims``: a `Poly3DCollection` of the exact polytope (curved sets: refined to the
+        vertex tolerance) on a 3-D axes (`polytope3d.plot_set_3d`; ``ax`` from
+        ``fig.add_subplot(projection='3d')``). Keyword arguments go to the artist.
+        """
+        if len(tuple(dims)) == 3:
+            from .polytope3d import plot_set_3d
+
+            return plot_set_3d(self, ax=ax, dims=dims, **kwargs)
         from .polygon import plot_set
 
         return plot_set(self, ax=ax, dims=dims, **kwargs)
@@ -327,6 +340,9 @@ class ConvexSet(AlgebraHooks, ABC):
     __radd__ = __add__
 
     def __sub__(self, other):
+        """``S - T`` is the Minkowski sum S ⊕ (−T) = {s − t : s ∈ S, t ∈ T}, and ``S - v`` a
+        translation; it is NOT the Pontryagin difference {x : x + T ⊆ S}, which is
+        `pontryagin_difference` (S ⊕ (−T) grows, S ⊖ T shrinks)."""
         if isinstance(other, ConvexSet):
             return self + (-np.eye(other.dim)) @ other
         return self + (-as_vector(other, "translation vector", self.dim))

@@ -201,8 +201,54 @@ class ConstrainedZonotope(ConvexSet):
     def _is_empty(self) -> bool:
         return self.factors.is_empty()
 
-    def _contains(self, p: np.ndarray, margin: float) -> bool:
-        return self._program.contains(p, margin)
+    def _contains(self, p: np.ndarray, margin) -> bool:
+        # The distance program in normalized coordinates (x − p)/s, where the set and the margin
+        # have unit size or less, so that the program's accuracy (SOLVER_TOL, with an absolute floor
+        # at 1) is relative to the set. Per-coordinate margins: s = margin / MEMBERSHIP_TOL
+        # (`sets.membership`); a scalar margin: one s for all coordinates, the largest of the
+        # margin, the generators' reach and the distance of the centre. The factor set and its
+        # presolve are shared.
+        from .membership import normalization
+
+        if np.ndim(margin) == 0:
+            hf = np.where(np.isfinite(self.h), self.h, 0.0)
+            reach = np.asarray(abs(self.G) @ hf).ravel()  # Σ_j |G_ij| h_j over bounded factors
+            sigma = max(float(margin), float(np.abs(self.c - p).max(initial=0.0)),
+                        float(reach.max(initial=0.0)))
+            if not np.isfinite(sigma) or sigma == 0.0:
+                return self._program.contains(p, float(margin))
+            return self._contains_normalized(p, np.full(self.dim, sigma), float(margin) / sigma)
+        s, _ = normalization(p, margin)
+        return self._contains_normalized(p, s, float(np.max(margin / s)))
+
+    def _contains_normalized(self, p: np.ndarray, s: np.ndarray, margin: float) -> bool:
+        """Whether a member lies within ∞-distance ``margin`` of p in the coordinates (x − p)/s."""
+        G = sp.diags(1.0 / s) @ self.G if sp.issparse(self.G) else self.G / s[:, None]
+        scaled = ConstrainedZonotope._trusted(G, (self.c - p) / s, self.A, self.b, self.h,
+                                              self.factors)
+        return scaled._program.contains(np.zeros(self.dim), margin)
+
+    def chebyshev_ball(self):
+        """The largest Euclidean ball inside the CZ (`setsmooth.sets.chebyshev.chebyshev_ball`).
+
+        Exact in dimensions 1 and 2 and for zonotopes with few facets; otherwise a ball inside
+        the set from one SOCP, with ``exact`` True only when it provably is the largest.
+
+        Returns
+        -------
+        ChebyshevBall
+            ``center``, ``radius``, ``exact``.
+
+        Examples
+        --------
+        >>> import numpy as np, setsmooth as ss
+        >>> ball = ss.ConstrainedZonotope(np.diag([2.0, 1.0]), np.zeros(2)).chebyshev_ball()
+        >>> np.round(ball.center, 6).tolist(), round(ball.radius, 6), ball.exact
+        ([0.0, 0.0], 1.0, True)
+        """
+        from .chebyshev import chebyshev_ball
+
+        return chebyshev_ball(self)
 
     # -- closed-form algebra ---------------------------------------------------------------------------
     def _linear_map(self, M) -> "ConstrainedZonotope":

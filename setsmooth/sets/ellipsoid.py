@@ -69,12 +69,17 @@ class Ellipsoid(ConvexSet):
         # x = c + Lu, ‖u‖ ≤ 1 with a thin factor L (one column per eigenvalue above the rounding
         # noise of Q): a u moving along the null space of a square root would leave x unchanged, a
         # degeneracy on which the interior-point method stalls for flat ellipsoids.
-        w, V = np.linalg.eigh(self.Q)
+        # The eigenvalues are judged in coordinates scaled by √Q_ii (Jacobi scaling), so that an
+        # ellipsoid with axes of 1e3 and 1e-6 keeps both (unscaled, 1e-12 of the largest eigenvalue
+        # fell below the rounding threshold and the set came out flat).
+        d = np.sqrt(np.clip(np.diag(self.Q), 0.0, None))
+        d = np.where(d > 0, d, 1.0)
+        w, V = np.linalg.eigh(self.Q / np.outer(d, d))
         keep = w > 10 * self.dim * np.finfo(float).eps * max(w.max(initial=0.0), 0.0)
         if not keep.any():
             return [x == self.c]
         u = cp.Variable(int(keep.sum()))
-        return [x == (V[:, keep] * np.sqrt(w[keep])) @ u + self.c, cp.norm(u, 2) <= 1]
+        return [x == (d[:, None] * V[:, keep] * np.sqrt(w[keep])) @ u + self.c, cp.norm(u, 2) <= 1]
 
     def _support(self, D: np.ndarray, certified: bool):
         """h_E(d) = dᵀc + √(dᵀQd), attained at c + Qd/√(dᵀQd)."""

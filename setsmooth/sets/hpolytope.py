@@ -56,9 +56,14 @@ class HPolytope(ConvexSet):
             return []
         return [self.H @ x <= self.k]
 
-    def _contains(self, p: np.ndarray, margin: float) -> bool:
-        # An ∞-norm margin around the point relaxes row i by margin·‖H_i‖₁.
-        return bool(np.all(self.H @ p <= self.k + margin * np.abs(self.H).sum(axis=1)))
+    #: `_contains` is a closed form (no solver accuracy): `membership.settled_without_hull` may use it.
+    _exact_membership_form = True
+
+    def _contains(self, p: np.ndarray, margin) -> bool:
+        # An ∞-norm margin m around the point (a float or one per coordinate) relaxes row i by
+        # Σ_j |H_ij| m_j.
+        m = np.broadcast_to(np.asarray(margin, dtype=float), (self.dim,))
+        return bool(np.all(self.H @ p <= self.k + np.abs(self.H) @ m))
 
     def _chebyshev_center(self) -> np.ndarray:
         from ..solvers import chebyshev_ball

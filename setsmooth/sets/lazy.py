@@ -61,6 +61,13 @@ class LinearMap(ConvexSet):
         values, points = self.S._support_points(np.asarray(D @ self.M), "auto", certified)
         return values + D @ self.offset, np.asarray((self.M @ points.T).T) + self.offset
 
+    def _support_values(self, D, path, certified):
+        # Values only (no maximizers) through the operand: a user's closed-form support function
+        # (`ConvexSet.support_function`) then serves h_{MS}(d) = h_S(Mᵀd) without a program.
+        if path != "auto" or self._flat_cz is not None:
+            return super()._support_values(D, path, certified)
+        return self.S._support_values(np.asarray(D @ self.M), "auto", certified) + D @ self.offset
+
     def _is_empty(self):
         return self.S._is_empty()
 
@@ -86,6 +93,12 @@ class MinkowskiSum(ConvexSet):
         va, pa = self.S._support_points(D, "auto", certified)
         vb, pb = self.T._support_points(D, "auto", certified)
         return _sum_supports(va, vb), pa + pb
+
+    def _support_values(self, D, path, certified):
+        if path != "auto" or self._flat_cz is not None:
+            return super()._support_values(D, path, certified)
+        return _sum_supports(self.S._support_values(D, "auto", certified),
+                             self.T._support_values(D, "auto", certified))
 
     def _is_empty(self):
         return self.S._is_empty() or self.T._is_empty()
@@ -115,6 +128,13 @@ class CartesianProduct(ConvexSet):
         values, points = _sum_supports(va, vb), np.hstack([pa, pb])
         points[~np.isfinite(values)] = np.nan  # no maximizer, not even in one factor
         return values, points
+
+    def _support_values(self, D, path, certified):
+        if path != "auto" or self._flat_cz is not None:
+            return super()._support_values(D, path, certified)
+        n = self.S.dim
+        return _sum_supports(self.S._support_values(D[:, :n], "auto", certified),
+                             self.T._support_values(D[:, n:], "auto", certified))
 
     def _is_empty(self):
         return self.S._is_empty() or self.T._is_empty()

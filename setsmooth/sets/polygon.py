@@ -144,7 +144,7 @@ def plot_set(S, ax=None, dims: Sequence[int] = (0, 1), **kwargs):
 
     dims = tuple(dims)
     if len(dims) != 2:
-        raise ValueError(f"dims must name two coordinates, got {dims}")
+        raise ValueError(f"dims must name two coordinates (or three, for a 3-D axes), got {dims}")
     P = S if (S.dim == 2 and dims == (0, 1)) else S.project(dims)
     verts = vertices_2d(P)
     ax = plt.gca() if ax is None else ax

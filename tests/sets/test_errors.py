@@ -271,9 +271,10 @@ def test_closest_point_centre_needs_a_reference_of_the_right_length():
         BOX2.center("closest", reference=[1, 2, 3])
 
 
-def test_chebyshev_centre_needs_an_h_representation():
-    with pytest.raises(NotImplementedError, match="needs an H-representation"):
-        Z2.center("chebyshev")
+def test_chebyshev_centre_needs_an_h_representation_or_a_cz_form():
+    lazy = ss.Ellipsoid([0, 0], np.eye(2)) + ss.HPolytope([[1.0, 0.0]], [1.0])
+    with pytest.raises(NotImplementedError, match="needs an H-representation or a constrained-zonotope"):
+        lazy.center("chebyshev")
 
 
 @pytest.mark.parametrize("S", [BOX2, ss.Ellipsoid([0, 0], np.eye(2)), Z2],
@@ -289,7 +290,7 @@ def test_polygon_queries_need_bounded_2d_sets():
     with pytest.raises(ValueError, match="needs a bounded set"):
         ss.HPolytope([[1.0, 0.0]], [1.0]).area()
     with pytest.raises(ValueError, match="dims must name two coordinates"):
-        BOX2.plot(dims=(0, 1, 1))
+        BOX2.plot(dims=(0, 1, 1, 0))
 
 
 # -- complex input is refused, never cast to its real part ------------------------------------------
