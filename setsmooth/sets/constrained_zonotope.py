@@ -243,7 +243,7 @@ class ConstrainedZonotope(ConvexSet):
         --------
         >>> import numpy as np, setsmooth as ss
         >>> ball = ss.ConstrainedZonotope(np.diag([2.0, 1.0]), np.zeros(2)).chebyshev_ball()
-        >>> np.round(ball.center, 6).tolist(), round(ball.radius, 6), ball.exact
+        >>> (np.round(ball.center, 6) + 0.0).tolist(), round(ball.radius, 6), ball.exact   # + 0.0: no -0.0
         ([0.0, 0.0], 1.0, True)
         """
         from .chebyshev import chebyshev_ball

@@ -106,7 +106,10 @@ def test_thin_posterior_far_from_the_origin_gives_one_convex_loop():
     S = ss.joint_trajectory_set(system, rethinking_example_30_joint_range(20), ys, 20).project([40, 41])
     v = S.vertices_2d()
     n = len(v)
-    turns = [np.cross(v[i] - v[i - 1], v[(i + 1) % n] - v[i]) for i in range(n)]
+    def cross(a, b):
+        return a[0] * b[1] - a[1] * b[0]
+
+    turns = [cross(v[i] - v[i - 1], v[(i + 1) % n] - v[i]) for i in range(n)]
     assert min(turns) > 0                                          # convex, counter-clockwise
     headings = np.unwrap([np.arctan2(*(v[(i + 1) % n] - v[i % n])[::-1]) for i in range(n + 1)])
     assert headings[-1] - headings[0] == pytest.approx(2 * np.pi, abs=1e-6)   # exactly one turn
