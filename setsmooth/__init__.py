@@ -27,6 +27,8 @@ _EXPORTS = {
                      "KalmanResult"], ".filters"),
     **dict.fromkeys(["optimal_smoother", "interval_smoother"], ".smoothers"),
     **dict.fromkeys(["trajectory_set", "filtering_map"], ".trajectories"),
+    **dict.fromkeys(["LSUModel", "LSUResult", "lsu_cz_filter", "lsuo_filter", "lsup_filter",
+                     "lsu_point_estimate"], ".filters.lsu"),
     "IntervalEstimates": ".intervals",
     "montecarlo": ".montecarlo",
     "paper_examples": ".paper_examples",
@@ -42,6 +44,7 @@ __all__ = [
     "reduce", "ReductionMethod", "DropZeros", "DropDependentConstraints", "MergeParallelGenerators",
     "Rescale", "EliminateConstraints", "Girard", "Combastel", "IntervalHull", "CORA_GIRARD",
     "CORA_COMBASTEL",
+    "LSUModel", "LSUResult", "lsu_cz_filter", "lsuo_filter", "lsup_filter", "lsu_point_estimate",
 ]
 
 
@@ -62,6 +65,8 @@ def __dir__() -> list[str]:
 if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
     from . import montecarlo, paper_examples
     from .filters import KalmanResult, classical_filter, interval_filter, kalman_filter, rts_smoother
+    from .filters.lsu import (LSUModel, LSUResult, lsu_cz_filter, lsu_point_estimate, lsuo_filter,
+                              lsup_filter)
     from .intervals import IntervalEstimates
     from .sets import (Box, CartesianProduct, ConstrainedZonotope, ConvexSet, Ellipsoid, EmptySet,
                        GeneralizedIntersection, HPolytope, Intersection, LinearMap, MinkowskiSum, Reals,

@@ -80,3 +80,7 @@ def gamma(k: int) -> float:
     """Higham's γ_k = k·u / (1 − k·u): relative error bound of a k-term floating-point dot product."""
     ku = k * UNIT_ROUNDOFF
     return ku / (1.0 - ku)
+
+#: Relative slack with which `sets.vertices.cz_vertices` accepts a basic solution whose basic factors
+#: exceed their bounds by rounding (the point is then clipped to the bounds).
+VERTEX_FEASIBILITY_TOL = 1e-9

@@ -111,7 +111,7 @@ class Box(ConvexSet):
     def _chebyshev_center(self) -> np.ndarray:
         return self.midpoint()
 
-    def sample(self, rng: np.random.Generator, size: int = 1) -> np.ndarray:
+    def sample(self, rng: np.random.Generator, size: int = 1, *, method: str = "auto") -> np.ndarray:
         """Uniform samples, shape (size, dim)."""
         check_rng(rng)
         if not self.is_bounded:
