@@ -85,20 +85,26 @@ def cz_vertices(Z, max_candidates: int = MAX_VERTEX_CANDIDATES) -> np.ndarray | 
     if nc == 0:
         return c + _signs(ng) @ G.T
     slack = tol.VERTEX_FEASIBILITY_TOL * (1.0 + np.abs(b).max(initial=0.0))
-    points = []
-    for beta in itertools.combinations(range(ng), nc):
-        beta = list(beta)
-        Ab = A[:, beta]
-        if abs(np.linalg.det(Ab)) <= tol.RANK_TOL:
-            continue  # not a basis
-        rest = np.setdiff1d(np.arange(ng), beta)
-        eta_rest = _signs(rest.size)                                   # (2^k, k)
-        eta_beta = np.linalg.solve(Ab, (b[:, None] - A[:, rest] @ eta_rest.T)).T
-        ok = np.all(np.abs(eta_beta) <= 1.0 + slack, axis=1)
-        if ok.any():
-            eta_beta = np.clip(eta_beta[ok], -1.0, 1.0)
-            points.append(c + eta_beta @ G[:, beta].T + eta_rest[ok] @ G[:, rest].T)
-    return np.vstack(points) if points else np.zeros((0, c.size))
+    # All bases at once: β (nb, nc) basic factors, ρ (nb, k) the others at every sign pattern S.
+    beta = np.array(list(itertools.combinations(range(ng), nc)), dtype=int)
+    nonbasic = np.ones((beta.shape[0], ng), dtype=bool)
+    nonbasic[np.arange(beta.shape[0])[:, None], beta] = False
+    rest = np.nonzero(nonbasic)[1].reshape(beta.shape[0], ng - nc)    # increasing, per basis
+    Ab = np.transpose(A[:, beta], (1, 0, 2))                           # (nb, nc, nc)
+    is_basis = np.abs(np.linalg.det(Ab)) > tol.RANK_TOL
+    beta, rest, Ab = beta[is_basis], rest[is_basis], Ab[is_basis]
+    if beta.shape[0] == 0:
+        return np.zeros((0, c.size))
+    S = _signs(ng - nc)                                                # (2^k, k)
+    rhs = b[None, :, None] - np.transpose(A[:, rest], (1, 0, 2)) @ S.T   # (nb, nc, 2^k)
+    eta_beta = np.linalg.solve(Ab, rhs)                                # (nb, nc, 2^k)
+    ok = np.all(np.abs(eta_beta) <= 1.0 + slack, axis=1)               # (nb, 2^k)
+    basis_of, pattern = np.nonzero(ok)
+    eta_b = np.clip(eta_beta[basis_of, :, pattern], -1.0, 1.0)         # (p, nc)
+    Gb = np.transpose(G[:, beta], (1, 0, 2))                           # (nb, n, nc)
+    Gr = np.transpose(G[:, rest], (1, 0, 2))                           # (nb, n, k)
+    return (c + np.einsum("pnc,pc->pn", Gb[basis_of], eta_b)
+            + np.einsum("pnk,pk->pn", Gr[basis_of], S[pattern]))
 
 
 def _signs(k: int) -> np.ndarray:
