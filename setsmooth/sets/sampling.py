@@ -112,9 +112,9 @@ def hit_and_run(S, rng: np.random.Generator, size: int = 1, *, burn_in: int | No
                 thin: int | None = None, start=None) -> np.ndarray:
     """Approximately uniform draws from the bounded set ``S`` by hit-and-run (Smith 1984).
 
-    Directions are Gaussian scaled by the interval hull's widths (symmetric and independent of the
-    current point, so the uniform law stays stationary, and thin sets are crossed along their long
-    axes). The chord of an `HPolytope` {Hx ≤ k} is closed-form; any other set's chord is the interval
+    Directions are Gaussian, shaped by the spread of the set's 2·dim extreme points and, after
+    burn-in, of the burn-in draws (symmetric and independent of the current point, so the uniform law
+    stays stationary; thin slanted sets are crossed along their length). The chord of an `HPolytope` {Hx ≤ k} is closed-form; any other set's chord is the interval
     hull of the 1-D set {t : x + t d ∈ S} (one program, two directions).
 
     Parameters
@@ -127,7 +127,8 @@ def hit_and_run(S, rng: np.random.Generator, size: int = 1, *, burn_in: int | No
     thin : int, optional
         Moves between draws; default 2·dim + 1.
     start : array_like, optional
-        A point of ``S`` to start from; default: the mean of the 2·dim support points along ±eᵢ.
+        A point of ``S`` to start from; default: the mean of the 2·dim support points along ±eᵢ
+        (which are computed anyway, to shape the directions).
 
     Returns
     -------
@@ -149,28 +150,41 @@ def hit_and_run(S, rng: np.random.Generator, size: int = 1, *, burn_in: int | No
     burn_in = 20 * n * n + 50 if burn_in is None else int(burn_in)
     thin = 2 * n + 1 if thin is None else int(thin)
     chord = _chord_function(S)
-    w = hull.widths()
-    widths = np.maximum(w, tol.RANK_TOL * max(1.0, float(w.max())))
-    if start is None:
-        E = np.vstack([np.eye(n), -np.eye(n)])
-        x = np.mean([S.support_point(d) for d in E], axis=0)
-    else:
-        x = np.asarray(start, dtype=float)
+    E = np.vstack([np.eye(n), -np.eye(n)])
+    anchors = np.array([S.support_point(d) for d in E])
+    x = anchors.mean(axis=0) if start is None else np.asarray(start, dtype=float)
+    # Directions d = L g, g standard normal: symmetric and independent of the current point, so the
+    # uniform law stays stationary. L rounds the set: the Cholesky factor of the spread of its 2n
+    # extreme points, then (after burn-in) of the burn-in draws, so a thin slanted set is crossed
+    # along its length instead of across it.
+    L = _shape(anchors, hull.widths())
     lengths = []
     out = np.empty((size, n))
+    history = []
     for move in range(burn_in + thin * size):
-        d = widths * rng.standard_normal(n)
+        if move == burn_in and burn_in >= 4 * n:
+            L = _shape(np.array(history), hull.widths())
+        d = L @ rng.standard_normal(n)
         lo, hi = chord(x, d)
         if move < 4 * n:
-            lengths.append(hi - lo)
+            lengths.append((hi - lo) * np.linalg.norm(d))
         x = x + rng.uniform(lo, hi) * d
+        if move < burn_in:
+            history.append(x)
         kept = move - burn_in
         if kept >= 0 and kept % thin == thin - 1:
             out[kept // thin] = x
-        if move == 4 * n - 1 and max(lengths) <= tol.VERTEX_TOL:
+        if move == 4 * n - 1 and max(lengths) <= tol.VERTEX_TOL * max(1.0, float(hull.widths().max())):
             raise ValueError(f"cannot sample uniformly from {type(S).__name__}: every chord through "
                              f"the start has zero length (the set has no interior in ℝ^{n})")
     return out
+
+
+def _shape(points: np.ndarray, widths: np.ndarray) -> np.ndarray:
+    """A Cholesky factor of the covariance of ``points``, regularized by 1e-6 of the hull widths."""
+    n = widths.size
+    cov = np.cov(points.T).reshape(n, n) + np.diag((1e-6 * np.maximum(widths, tol.RANK_TOL)) ** 2)
+    return np.linalg.cholesky(cov)
 
 
 def _chord_function(S):
