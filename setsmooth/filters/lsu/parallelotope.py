@@ -92,6 +92,11 @@ def lsup_filter(model: LSUModel, ys: Any, us: Any, *, std: bool = True) -> LSURe
     return LSUResult("LSUP", supports, {"center": centers}, spread)
 
 
+def _CHOICES(k: int, n: int) -> np.ndarray:
+    """All n-subsets of range(k) as rows of an index array."""
+    return np.array(list(itertools.combinations(range(k), n)), dtype=int)
+
+
 def parallelotope_update(P: Zonotope, C: np.ndarray, strip) -> "Zonotope | EmptySet":
     """The minimal-volume parallelotope around P ∩ {x : Cx ∈ strip} among those whose faces are
     parallel to n of the n + m hyperplane pairs (P's faces, C's rows), each pair tight (Vicino &
@@ -110,15 +115,10 @@ def parallelotope_update(P: Zonotope, C: np.ndarray, strip) -> "Zonotope | Empty
         return EmptySet(n)
     else:
         lo, hi = vertex_bounds(V, normals)
-    best, best_volume = None, np.inf
-    for rows in itertools.combinations(range(len(normals)), n):
-        D = normals[list(rows)]
-        det = abs(np.linalg.det(D))
-        if det <= tol.RANK_TOL:
-            continue
-        volume = np.prod(hi[list(rows)] - lo[list(rows)]) / det
-        if volume < best_volume:
-            best, best_volume = rows, volume
+    choices = _CHOICES(len(normals), n)                                  # (k, n) row indices
+    det = np.abs(np.linalg.det(normals[choices]))
+    volume = np.prod((hi - lo)[choices], axis=1) / np.where(det > tol.RANK_TOL, det, np.nan)
+    best = choices[int(np.nanargmin(volume))]
     rows = list(best)
     Dinv = np.linalg.inv(normals[rows])
     mid, rad = (hi[rows] + lo[rows]) / 2, (hi[rows] - lo[rows]) / 2
@@ -131,15 +131,12 @@ def parallelotope_predict(P: Zonotope, A: np.ndarray, Bu: np.ndarray, omega: np.
     n = P.dim
     G = np.hstack([A @ P.G, np.diag(omega)])
     c = A @ P.c + Bu
-    best, best_volume = None, np.inf
-    for cols in itertools.combinations(range(G.shape[1]), n):
-        E = G[:, list(cols)]
-        det = abs(np.linalg.det(E))
-        if det <= tol.RANK_TOL * np.prod(np.linalg.norm(E, axis=0)):
-            continue
-        radius = abs_sum_upper(np.linalg.solve(E, G))
-        volume = det * np.prod(radius)
-        if volume < best_volume:
-            best, best_volume = (E, radius), volume
-    E, radius = best
+    choices = _CHOICES(G.shape[1], n)
+    E = np.transpose(G[:, choices], (1, 0, 2))                            # (k, n, n) edge matrices
+    det = np.abs(np.linalg.det(E))
+    usable = det > tol.RANK_TOL * np.prod(np.linalg.norm(E, axis=1), axis=1)
+    E, det = E[usable], det[usable]
+    radius = abs_sum_upper(np.linalg.solve(E, np.broadcast_to(G, (E.shape[0],) + G.shape)), axis=2)
+    best = int(np.argmin(det * np.prod(radius, axis=1)))
+    E, radius = E[best], radius[best]
     return Zonotope._trusted(E * radius, c)
