@@ -32,7 +32,9 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
         rows.append(row(f"RMSE·10³ at K = {k:g}, best → worst", ex.ordering(np.array(pub, dtype=float))
                         if pub and None not in pub else "all < 1e-3",
                         ex.ordering(mean[i, idx]) + f" (centroid {mean[i, ex.ESTIMATORS.index('LSUCZ-c')]:.3g}"
-                        f" vs LSUCZ-1 {mean[i, 0]:.3g})"))
+                        f" vs LSUCZ-1 {mean[i, 0]:.3g}; LSUP kept shape "
+                        f"{mean[i, ex.ESTIMATORS.index('LSUP-kept')]:.3g} vs paper LSUP "
+                        f"{pub[3] if pub and pub[3] is not None else '< 1e-3'})"))
     fig = ex.curve_figure(exp, METRIC, ex.PUBLISHED_RMSE, "RMSE·10³", f"Fig. 1: RMSE of the state estimates ({exp['settings']['runs']} runs)")
     data = {"figure": "LSU paper Fig. 1", "rows": rows, "settings": ex.common_settings(exp),
             "published": {"runs": ex.PAPER_RUNS, "values": ex.PUBLISHED_RMSE},

@@ -31,12 +31,12 @@ def test_tables_and_figures_share_one_experiment_and_report_every_published_valu
     assert saved["paper"] == "lsu" and saved["settings"]["runs"] == 2
     assert saved["settings"]["experiment computed"] == "in this script"
     mean = np.array(saved["table1"]["mean"])
-    assert mean.shape == (2, 5) and np.all(np.isfinite(mean)) and np.all(mean > 0)
+    assert mean.shape == (2, 6) and np.all(np.isfinite(mean)) and np.all(mean > 0)
     # one row per K and table with the published numbers beside ours
     t1 = [r for r in data["rows"] if r["quantity"].startswith("Table 1")]
     assert [r["paper"] for r in t1] == ["6 / 6.5 / 1.4 / 2.5", "50.3 / 141.7 / 250.8 / 181.5"]
     outside = [r for r in data["rows"] if r["quantity"].startswith("true state outside")][0]
-    assert outside["ours"] == "0 / 0 / 0"
+    assert outside["ours"] == "0 / 0 / 0 / 0"
     assert len(list(tmp_path.glob("lsu_experiment_*.npz"))) == 1
     for name in ("lsu_fig1", "lsu_fig2", "lsu_fig3"):
         figures(name).main(runs=2, out=tmp_path, **SMALL)

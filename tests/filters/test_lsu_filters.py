@@ -170,3 +170,17 @@ def test_inconsistent_data_give_empty_supports_and_nan_estimates():
         assert all(isinstance(S, ss.EmptySet) for S in result.supports[3:]), f.__name__
         assert not any(isinstance(S, ss.EmptySet) for S in result.supports[:3])
         assert all(np.isnan(v[3:]).all() and np.isfinite(v[:3]).all() for v in result.estimates.values())
+
+
+def test_kept_shape_lsup_contains_the_truth_and_is_looser_than_the_minimal_volume_choice():
+    model = paper_model(0.0)
+    us, xs, ys = data(model, 60, 9)
+    kept = ss.lsup_filter(model, ys, us, construction="kept_shape")
+    best = ss.lsup_filter(model, ys, us)
+    assert kept.settings["construction"] == "kept_shape"
+    for S, x in zip(kept.supports, xs):
+        assert np.all(np.abs(np.linalg.solve(S.G, x - S.c)) <= 1.0)
+    volume = [np.abs(np.linalg.det(r.supports[-1].G)) for r in (kept, best)]
+    assert volume[1] < volume[0]
+    with pytest.raises(ValueError, match="construction must be one of"):
+        ss.lsup_filter(model, ys, us, construction="smallest")
