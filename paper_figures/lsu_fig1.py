@@ -1,4 +1,4 @@
-"""LSU paper Fig. 1: RMSE of the state estimates against K (ω = 1e−4·1, v = 10^−K·1), ours beside the paper's Table values.
+"""LSU paper Fig. 1: RMSE of the state estimates against K, ours beside the paper's Table 1 values.
 
 The experiment is shared with `lsu_tables` (`_lsu_examples.experiment`, cached). Ours: mean ± standard
 error over runs; dashed: the paper's numbers (Table 1, which Fig. 1 plots).
@@ -35,7 +35,8 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
                         f" vs LSUCZ-1 {mean[i, 0]:.3g}; LSUP kept shape "
                         f"{mean[i, ex.ESTIMATORS.index('LSUP-kept')]:.3g} vs paper LSUP "
                         f"{pub[3] if pub and pub[3] is not None else '< 1e-3'})"))
-    fig = ex.curve_figure(exp, METRIC, ex.PUBLISHED_RMSE, "RMSE·10³", f"Fig. 1: RMSE of the state estimates ({exp['settings']['runs']} runs)")
+    title = f"Fig. 1: RMSE of the state estimates ({exp['settings']['runs']} runs)"
+    fig = ex.curve_figure(exp, METRIC, ex.PUBLISHED_RMSE, "RMSE·10³", title)
     data = {"figure": "LSU paper Fig. 1", "rows": rows, "settings": ex.common_settings(exp),
             "published": {"runs": ex.PAPER_RUNS, "values": ex.PUBLISHED_RMSE},
             "K": K, "estimators": ex.ESTIMATORS, "mean": mean, "se": se}

@@ -103,7 +103,7 @@ class Ellipsoid(ConvexSet):
         return np.array(self.c)
 
     def sample(self, rng: np.random.Generator, size: int = 1, *, method: str = "auto") -> np.ndarray:
-        """Uniform samples: a uniform point of the unit ball mapped by Q^{1/2}."""
+        """Uniform samples: a uniform point of the unit ball mapped by Q^{1/2} (exact for every ``method``)."""
         check_rng(rng)
         u = rng.standard_normal((size, self.dim))
         u /= np.linalg.norm(u, axis=1, keepdims=True)

@@ -114,7 +114,8 @@ def hit_and_run(S, rng: np.random.Generator, size: int = 1, *, burn_in: int | No
 
     Directions are Gaussian, shaped by the spread of the set's 2·dim extreme points and, after
     burn-in, of the burn-in draws (symmetric and independent of the current point, so the uniform law
-    stays stationary; thin slanted sets are crossed along their length). The chord of an `HPolytope` {Hx ≤ k} is closed-form; any other set's chord is the interval
+    stays stationary; thin slanted sets are crossed along their length). The chord of an
+    `HPolytope` {Hx ≤ k} is closed-form; any other set's chord is the interval
     hull of the 1-D set {t : x + t d ∈ S} (one program, two directions).
 
     Parameters

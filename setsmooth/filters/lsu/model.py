@@ -22,7 +22,7 @@ from ...sets.box import Box
 __all__ = ["LSUModel"]
 
 
-@dataclass(frozen=True, init=False)
+@dataclass(frozen=True, init=False, eq=False)
 class LSUModel:
     """A linear model with uniform noises on boxes and a uniform prior on a box (LSU paper (4)–(6)).
 

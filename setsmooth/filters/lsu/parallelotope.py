@@ -8,7 +8,8 @@ candidate face normals are the n rows of T⁻¹ (the old faces) and the m rows o
 strips). Over Q = 𝕏 ∩ {x : Cx ∈ y − 𝕍} (a CZ) each normal d gets its tight range
 [−h_Q(−d), h_Q(d)] (certified support values). Every choice of n linearly independent normals D_S
 with those ranges (from the vertices of the small CZ Q, widened by their rounding slack; certified
-support values if the enumeration were too large) bounds a parallelotope containing Q, of volume 2ⁿ Πᵢ rᵢ / |det D_S|; we keep the
+support values if the enumeration were too large) bounds a parallelotope containing Q, of volume
+2ⁿ Πᵢ rᵢ / |det D_S|; we keep the
 smallest among the C(n + m, n) choices. (Vicino & Zappa process one scalar strip at a time, n + 1
 choices; taking the m strips together can only give a smaller or equal volume.)
 

@@ -11,7 +11,7 @@ from ...sets.base import ConvexSet
 __all__ = ["LSUResult"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class LSUResult:
     """Supports 𝕏_t of the uniform approximate posteriors f(x_t | d(t)), t = 1..t̄, and estimates.
 
