@@ -28,6 +28,8 @@ _EXPORTS = {
                      "KalmanResult"], ".filters"),
     **dict.fromkeys(["optimal_smoother", "interval_smoother"], ".smoothers"),
     **dict.fromkeys(["trajectory_set", "filtering_map"], ".trajectories"),
+    **dict.fromkeys(["LSUModel", "LSUResult", "lsu_cz_filter", "lsuo_filter", "lsup_filter",
+                     "lsu_point_estimate"], ".filters.lsu"),
     "IntervalEstimates": ".intervals",
     **dict.fromkeys(["JointRange", "ScalarRelatedNoiseSystem"], ".related_noise"),
     **dict.fromkeys(["joint_trajectory_set", "optimal_filter", "optimal_joint_smoother",
@@ -60,6 +62,7 @@ __all__ = [
     "classical_interval_filter", "SampledRanges", "rethinking_examples",
     "SetEstimates", "references",
     "CORA_COMBASTEL", "VPolytope", "Containment", "is_subset", "pontryagin_difference", "ChebyshevBall",
+    "LSUModel", "LSUResult", "lsu_cz_filter", "lsuo_filter", "lsup_filter", "lsu_point_estimate",
 ]
 
 
@@ -81,6 +84,8 @@ if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
     from . import analysis, montecarlo, paper_examples
     from .filters import KalmanResult, classical_filter, interval_filter, kalman_filter, rts_smoother
     from . import references
+    from .filters.lsu import (LSUModel, LSUResult, lsu_cz_filter, lsu_point_estimate, lsuo_filter,
+                              lsup_filter)
     from .intervals import IntervalEstimates
     from .observation_information import (observation_information_set, observation_information_tower,
                                           observation_set)

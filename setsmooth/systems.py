@@ -408,8 +408,8 @@ def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator | None,
 
     Notes
     -----
-    Uniform draws use each set's ``sample``: direct for boxes and ellipsoids, rejection from the
-    interval hull (one membership LP per proposal) otherwise. All draws are made up front in a fixed
+    Uniform draws use each set's ``sample``: direct for boxes and ellipsoids, exact from the vertex
+    hull for small low-dimensional CZs, hit-and-run otherwise (`setsmooth.sets.sampling`). All draws are made up front in a fixed
     order (x_0, then w_0..w_{T-1}, then v_0..v_T), so a seed fixes the whole trajectory.
     """
     if isinstance(T, bool) or not isinstance(T, (int, np.integer)):

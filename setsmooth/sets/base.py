@@ -310,15 +310,18 @@ class ConvexSet(AlgebraHooks, ExtensionPoints, SetRelations, ABC):
 
         return plot_set(self, ax=ax, dims=dims, **kwargs)
 
-    def sample(self, rng: np.random.Generator, size: int = 1) -> np.ndarray:
+    def sample(self, rng: np.random.Generator, size: int = 1, *, method: str = "auto") -> np.ndarray:
         """Points drawn uniformly from a bounded set, shape (size, dim).
 
-        The default is rejection sampling from the interval hull with one membership program per
-        proposal; representations with a direct sampler override it.
+        ``method='auto'`` samples exactly from the simplices of the vertex hull when the set flattens
+        to a small low-dimensional CZ, and by hit-and-run otherwise (closed-form chords for an
+        H-polytope, one program per move for other sets); 'exact', 'hit_and_run' and 'rejection'
+        force one (`setsmooth.sets.sampling.uniform_sample`). Representations with a direct sampler
+        (boxes, ellipsoids) override it.
         """
-        from .sampling import rejection_sample
+        from .sampling import uniform_sample
 
-        return rejection_sample(self, rng, size)
+        return uniform_sample(self, rng, size, method)
 
     # -- algebra (see setsmooth.sets.algebra for the widening rules) ---------------------------------
     def __matmul__(self, other):

@@ -111,8 +111,8 @@ class Box(ConvexSet):
     def _chebyshev_center(self) -> np.ndarray:
         return self.midpoint()
 
-    def sample(self, rng: np.random.Generator, size: int = 1) -> np.ndarray:
-        """Uniform samples, shape (size, dim)."""
+    def sample(self, rng: np.random.Generator, size: int = 1, *, method: str = "auto") -> np.ndarray:
+        """Uniform samples, shape (size, dim); exact for every ``method`` (accepted for the common signature)."""
         check_rng(rng)
         if not self.is_bounded:
             raise ValueError("cannot sample uniformly from an unbounded box")

@@ -107,8 +107,8 @@ class Ellipsoid(ConvexSet):
     def _chebyshev_center(self) -> np.ndarray:
         return np.array(self.c)
 
-    def sample(self, rng: np.random.Generator, size: int = 1) -> np.ndarray:
-        """Uniform samples: a uniform point of the unit ball mapped by Q^{1/2}."""
+    def sample(self, rng: np.random.Generator, size: int = 1, *, method: str = "auto") -> np.ndarray:
+        """Uniform samples: a uniform point of the unit ball mapped by Q^{1/2} (exact for every ``method``)."""
         check_rng(rng)
         u = rng.standard_normal((size, self.dim))
         u /= np.linalg.norm(u, axis=1, keepdims=True)

@@ -50,7 +50,7 @@ class EmptySet(ConvexSet):
     def vertices_2d(self) -> np.ndarray:
         return np.zeros((0, 2))
 
-    def sample(self, rng: np.random.Generator, size: int = 1) -> np.ndarray:
+    def sample(self, rng: np.random.Generator, size: int = 1, *, method: str = "auto") -> np.ndarray:
         raise ValueError("cannot sample from an empty set")
 
     def _as_constrained_zonotope(self):

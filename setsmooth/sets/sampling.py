@@ -1,4 +1,24 @@
-"""Uniform sampling from bounded sets by rejection from the interval hull."""
+"""Uniform sampling from bounded sets: exact where the representation allows, else hit-and-run.
+
+`uniform_sample` (what ``ConvexSet.sample`` calls) picks, for ``method='auto'``:
+
+* **exact** — a set that flattens to a constrained zonotope of dimension ≤ `EXACT_SAMPLING_MAX_DIM`
+  whose vertices can be enumerated (`sets.vertices.cz_vertices`): its hull is cut into simplices and
+  each draw picks a simplex with probability ∝ volume, then uniform barycentric weights. Exactly
+  uniform, no program per draw (the vertices cost no LP at all).
+* **hit-and-run** — otherwise: a Markov chain whose every move picks a random direction d and a point
+  uniform on the chord {x + t d} ∩ S. The uniform distribution on S is its stationary law (Smith
+  1984), so every proposal is accepted; the chord is closed-form for an `HPolytope` (no program at
+  all) and one two-direction program on the 1-D set {t : x + t d ∈ S} otherwise. The draws are
+  approximately uniform: after ``burn_in`` moves, one draw every ``thin`` moves.
+* **rejection** (on request; `rejection_sample`) — proposals uniform on the interval hull, accepted by
+  one membership program each: exactly uniform, but its cost grows with how thin S is in its hull.
+
+References
+----------
+R. L. Smith, "Efficient Monte Carlo procedures for generating points uniformly distributed over
+bounded regions", Operations Research 32 (1984).
+"""
 
 from __future__ import annotations
 
@@ -11,6 +31,186 @@ from .._validation import check_rng
 
 #: The flatness check factors dense matrices up to this many generators.
 FLATNESS_CHECK_MAX_GENERATORS = 2000
+
+#: `uniform_sample` samples exactly (vertices and simplices) up to this dimension.
+EXACT_SAMPLING_MAX_DIM = 6
+
+SAMPLING_METHODS = ("auto", "exact", "hit_and_run", "rejection")
+
+
+def uniform_sample(S, rng: np.random.Generator, size: int = 1, method: str = "auto") -> np.ndarray:
+    """Draw ``size`` points uniformly from the bounded set ``S``, shape (size, dim).
+
+    Parameters
+    ----------
+    S : ConvexSet
+        Bounded, non-empty, with interior in its space.
+    rng : numpy.random.Generator
+    size : int
+    method : {'auto', 'exact', 'hit_and_run', 'rejection'}
+        See the module docstring; 'auto' takes 'exact' when it is available, 'hit_and_run' otherwise.
+
+    Returns
+    -------
+    ndarray, shape (size, dim)
+
+    Raises
+    ------
+    ValueError
+        For an empty, unbounded or flat set (naming the affine dimension when it is known), an unknown
+        ``method``, or 'exact' on a set without an enumerable vertex set.
+
+    Examples
+    --------
+    >>> import numpy as np, setsmooth as ss
+    >>> Z = ss.Zonotope([[1.0, 0.5], [0.0, 1.0]], [0.0, 0.0])
+    >>> uniform_sample(Z, np.random.default_rng(0), 3).shape
+    (3, 2)
+    """
+    check_rng(rng)
+    if method not in SAMPLING_METHODS:
+        raise ValueError(f"method must be one of {SAMPLING_METHODS}, got {method!r}")
+    if method == "rejection":
+        return rejection_sample(S, rng, size)
+    if method in ("auto", "exact"):
+        geometry = exact_geometry(S)
+        if geometry is not None:
+            return geometry.sample(rng, size)
+        if method == "exact":
+            raise ValueError(f"no exact sampler for {type(S).__name__} of dimension {S.dim}: it needs a "
+                             f"constrained-zonotope form of dimension ≤ {EXACT_SAMPLING_MAX_DIM} with at "
+                             "most vertices.MAX_VERTEX_CANDIDATES basic solutions")
+    return hit_and_run(S, rng, size)
+
+
+def exact_geometry(S):
+    """The `HullGeometry` of ``S`` from its vertices, or None when ``S`` has no CZ form of dimension ≤
+    `EXACT_SAMPLING_MAX_DIM` with an enumerable vertex set.
+
+    Raises
+    ------
+    ValueError
+        When ``S`` is empty or flat (no interior).
+    """
+    from .vertices import cz_vertices, hull_geometry
+
+    cz = S._flat_cz
+    if cz is None or S.dim > EXACT_SAMPLING_MAX_DIM:
+        return None
+    V = cz_vertices(cz)
+    if V is None:
+        return None
+    if V.shape[0] == 0:
+        raise ValueError("cannot sample from an empty set")
+    try:
+        return hull_geometry(V)
+    except ValueError as err:
+        raise ValueError(f"cannot sample uniformly from {type(S).__name__}: {err}") from None
+
+
+def hit_and_run(S, rng: np.random.Generator, size: int = 1, *, burn_in: int | None = None,
+                thin: int | None = None, start=None) -> np.ndarray:
+    """Approximately uniform draws from the bounded set ``S`` by hit-and-run (Smith 1984).
+
+    Directions are Gaussian, shaped by the spread of the set's 2·dim extreme points and, after
+    burn-in, of the burn-in draws (symmetric and independent of the current point, so the uniform law
+    stays stationary; thin slanted sets are crossed along their length). The chord of an
+    `HPolytope` {Hx ≤ k} is closed-form; any other set's chord is the interval
+    hull of the 1-D set {t : x + t d ∈ S} (one program, two directions).
+
+    Parameters
+    ----------
+    S : ConvexSet
+    rng : numpy.random.Generator
+    size : int
+    burn_in : int, optional
+        Moves before the first draw; default 20·dim² + 50.
+    thin : int, optional
+        Moves between draws; default 2·dim + 1.
+    start : array_like, optional
+        A point of ``S`` to start from; default: the mean of the 2·dim support points along ±eᵢ
+        (which are computed anyway, to shape the directions).
+
+    Returns
+    -------
+    ndarray, shape (size, dim)
+
+    Raises
+    ------
+    ValueError
+        For an empty or unbounded set, or one without interior (every chord through the start has
+        zero length).
+    """
+    check_rng(rng)
+    hull = S.interval_hull()
+    if hull.is_empty():
+        raise ValueError("cannot sample from an empty set")
+    if not hull.is_bounded:
+        raise ValueError("cannot sample uniformly from an unbounded set")
+    n = S.dim
+    burn_in = 20 * n * n + 50 if burn_in is None else int(burn_in)
+    thin = 2 * n + 1 if thin is None else int(thin)
+    chord = _chord_function(S)
+    E = np.vstack([np.eye(n), -np.eye(n)])
+    anchors = np.array([S.support_point(d) for d in E])
+    x = anchors.mean(axis=0) if start is None else np.asarray(start, dtype=float)
+    # Directions d = L g, g standard normal: symmetric and independent of the current point, so the
+    # uniform law stays stationary. L rounds the set: the Cholesky factor of the spread of its 2n
+    # extreme points, then (after burn-in) of the burn-in draws, so a thin slanted set is crossed
+    # along its length instead of across it.
+    L = _shape(anchors, hull.widths())
+    lengths = []
+    out = np.empty((size, n))
+    history = []
+    for move in range(burn_in + thin * size):
+        if move == burn_in and burn_in >= 4 * n:
+            L = _shape(np.array(history), hull.widths())
+        d = L @ rng.standard_normal(n)
+        lo, hi = chord(x, d)
+        if move < 4 * n:
+            lengths.append((hi - lo) * np.linalg.norm(d))
+        x = x + rng.uniform(lo, hi) * d
+        if move < burn_in:
+            history.append(x)
+        kept = move - burn_in
+        if kept >= 0 and kept % thin == thin - 1:
+            out[kept // thin] = x
+        if move == 4 * n - 1 and max(lengths) <= tol.VERTEX_TOL * max(1.0, float(hull.widths().max())):
+            raise ValueError(f"cannot sample uniformly from {type(S).__name__}: every chord through "
+                             f"the start has zero length (the set has no interior in ℝ^{n})")
+    return out
+
+
+def _shape(points: np.ndarray, widths: np.ndarray) -> np.ndarray:
+    """A Cholesky factor of the covariance of ``points``, regularized by 1e-6 of the hull widths."""
+    n = widths.size
+    cov = np.cov(points.T).reshape(n, n) + np.diag((1e-6 * np.maximum(widths, tol.RANK_TOL)) ** 2)
+    return np.linalg.cholesky(cov)
+
+
+def _chord_function(S):
+    """(x, d) ↦ (t_lo, t_hi) with {x + t d : t ∈ [t_lo, t_hi]} = the chord of S through x along d."""
+    from .hpolytope import HPolytope
+
+    if isinstance(S, HPolytope):
+        H, k = np.asarray(S.H), np.asarray(S.k)
+
+        def polytope_chord(x, d):
+            rate, room = H @ d, np.maximum(k - H @ x, 0.0)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                up = np.where(rate > 0, room / rate, np.inf).min(initial=np.inf)
+                down = np.where(rate < 0, room / rate, -np.inf).max(initial=-np.inf)
+            return float(down), float(up)
+
+        return polytope_chord
+
+    def program_chord(x, d):
+        line = (S + (-x)).preimage(d[:, None]).interval_hull()
+        if line.is_empty():  # x left S by rounding: stay
+            return 0.0, 0.0
+        return float(line.lo[0]), float(line.hi[0])
+
+    return program_chord
 
 
 def rejection_sample(S, rng: np.random.Generator, size: int = 1, max_tries: int = 200_000) -> np.ndarray:

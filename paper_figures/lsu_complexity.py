@@ -1,0 +1,100 @@
+"""LSU-CZ complexity maxima (n_g, n_c) and rescaling: how the errors and the cost change (not in the paper).
+
+The paper's Algorithm 1 asks for "maximal number of generators n_g and constraints n_c" but states
+neither its values nor its reduction. We run LSUCZ-1 for several budgets of our reduction pipeline
+Rescale(rescale) → EliminateConstraints(n_c) → Girard((n_g − n_c)/n), with LSUP and LSUO as references,
+on t̄ = 300 steps (the errors are steady long before), and report steady RMSE (t ≥ 11) and seconds.
+"""
+
+from __future__ import annotations
+
+import time
+from functools import partial
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+import setsmooth as ss
+from setsmooth import montecarlo
+
+import _lsu_examples as ex
+from _outputs import Stopwatch, cli, finish, row
+
+NAME = "lsu_complexity"
+PAPER = ex.PAPER
+DEFAULT_RUNS = 2
+HORIZON = 300
+K_SWEEP = (3.0, 1.0, 0.0)
+BUDGETS = ((3, 0, "iter"), (5, 1, "iter"), (9, 2, "iter"), (12, 3, "iter"), (9, 2, "exact"))
+
+
+def trial(rng: np.random.Generator, K_values=K_SWEEP, horizon: int = HORIZON, budgets=BUDGETS) -> dict:
+    """Steady RMSE of LSUCZ-1 per (K, budget) and of LSUP, LSUO per K; LSU-CZ seconds per budget."""
+    us = rng.standard_normal((horizon, 1))
+    seed = int(rng.integers(2 ** 63))
+    rmse = np.empty((len(K_values), len(budgets)))
+    seconds = np.empty((len(K_values), len(budgets)))
+    reference = np.empty((len(K_values), 2))
+    for i, K in enumerate(K_values):
+        m = ex.model(K)
+        xs, ys = m.simulate(us, np.random.default_rng(seed))
+        for j, (ng, nc, rescale) in enumerate(budgets):
+            clock = time.perf_counter()
+            r = ss.lsu_cz_filter(m, ys, us, max_generators=ng, max_constraints=nc, rescale=rescale,
+                                 estimates=("interval_hull",), std=False)
+            seconds[i, j] = time.perf_counter() - clock
+            rmse[i, j] = _steady_rmse(r.estimates["interval_hull"], xs)
+        reference[i] = [_steady_rmse(f(m, ys, us, std=False).estimates["center"], xs)
+                        for f in (ss.lsup_filter, ss.lsuo_filter)]
+    return {"rmse": rmse, "seconds": seconds, "reference": reference}
+
+
+def _steady_rmse(estimate, xs):
+    e = (estimate - xs)[ex.STEADY_FROM:]
+    return float(np.sqrt(np.mean(e ** 2)))
+
+
+def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, workers: int | None = None,
+         progress: bool = True, executor=None, K_values=K_SWEEP, horizon: int = HORIZON,
+         budgets=BUDGETS) -> dict:
+    clock = Stopwatch()
+    results = montecarlo.run(partial(trial, K_values=tuple(K_values), horizon=horizon, budgets=tuple(budgets)),
+                             runs, seed, executor=executor, progress=progress, workers=workers)
+    rmse, rmse_se = ex.mean_se(np.array([r["rmse"] for r in results]) * 1e3)
+    ref, ref_se = ex.mean_se(np.array([r["reference"] for r in results]) * 1e3)
+    seconds = np.array([r["seconds"] for r in results]).mean(axis=(0, 1)) / horizon * 1e3
+    labels = [f"n_g={ng}, n_c={nc}, {rescale}" for ng, nc, rescale in budgets]
+    rows = []
+    for i, K in enumerate(K_values):
+        best = int(np.argmin(rmse[i]))
+        rows.append(row(f"K = {K:g}: steady RMSE·10³ of LSUCZ-1 per budget ({'; '.join(labels)})",
+                        "maxima not stated",
+                        " / ".join(f"{v:.3g}" for v in rmse[i]) + f"; LSUP {ref[i, 0]:.3g}, LSUO {ref[i, 1]:.3g};"
+                        f" best: {labels[best]}"))
+    rows.append(row("LSU-CZ ms per step (all estimates off but Method 1), per budget", "—",
+                    " / ".join(f"{s:.2f}" for s in seconds)))
+    fig, ax = plt.subplots(figsize=(8, 5))
+    for j, label in enumerate(labels):
+        ax.errorbar(K_values, rmse[:, j], yerr=rmse_se[:, j], marker="o", capsize=2,
+                    label=f"LSUCZ-1, {label} ({seconds[j]:.1f} ms/step)")
+    for k, name in enumerate(("LSUP", "LSUO")):
+        ax.errorbar(K_values, ref[:, k], yerr=ref_se[:, k], ls="--", marker="x", capsize=2, label=name)
+    ax.set(yscale="log", xlabel="K  (v = 10^−K)", ylabel="steady RMSE·10³ (t ≥ 11)",
+           title=f"LSU-CZ complexity maxima ({runs} runs, t̄ = {horizon})")
+    ax.invert_xaxis()
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    data = {"figure": "LSU-CZ complexity maxima (ours)", "rows": rows,
+            "settings": {"runs": runs, "seed": seed, "T": horizon, "K": list(K_values),
+                         "budgets": [list(b) for b in budgets],
+                         "prior box": "x_1 ~ U([−1, 1]³)"},
+            "published": {"runs": "—"}, "K": list(K_values), "budgets": labels,
+            "rmse_steady": rmse, "rmse_steady_se": rmse_se, "reference_lsup_lsuo": ref,
+            "ms_per_step": seconds}
+    return finish(out, NAME, PAPER, fig, data, clock)
+
+
+if __name__ == "__main__":
+    cli(main, DEFAULT_RUNS, __doc__.splitlines()[0])

@@ -1,0 +1,103 @@
+"""Uniform sampling without one LP per proposal: exact (vertex hull simplices) and hit-and-run."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import setsmooth as ss
+from setsmooth.sets.sampling import exact_geometry, hit_and_run, uniform_sample
+from setsmooth.sets.vertices import cz_vertices, hull_geometry, vertex_candidate_count
+
+# A thin asymmetric quadrilateral as a CZ: a zonotope cut by one constraint.
+PENTAGON = ss.ConstrainedZonotope([[1.0, 0.5, 0.2], [0.0, 1.0, 0.7]], [0.3, -0.2],
+                                  A=[[1.0, 1.0, 0.5]], b=[0.6])
+TRIANGLE = ss.HPolytope([[1.0, 1.0], [-1.0, 0.0], [0.0, -1.0]], [1.0, 0.0, 0.0])
+
+
+def binomial_bound(p: float, n: int) -> float:
+    return 4.5 * np.sqrt(p * (1 - p) / n)
+
+
+def test_cz_vertices_span_the_same_polygon_as_the_support_function_oracle():
+    V = cz_vertices(PENTAGON)
+    assert hull_geometry(V).volume == pytest.approx(PENTAGON.area(), rel=1e-7)
+    D = np.random.default_rng(0).standard_normal((20, 2))
+    np.testing.assert_allclose((V @ D.T).max(axis=0), PENTAGON.support_many(D), rtol=1e-7, atol=1e-9)
+
+
+def test_cz_vertices_of_a_3d_cz_match_its_interval_hull_and_support_values():
+    rng = np.random.default_rng(1)
+    Z = ss.ConstrainedZonotope(rng.standard_normal((3, 8)), rng.standard_normal(3),
+                               A=rng.standard_normal((2, 8)), b=0.3 * rng.standard_normal(2))
+    V = cz_vertices(Z)
+    hull = Z.interval_hull(certified=False)
+    np.testing.assert_allclose(V.min(axis=0), hull.lo, atol=1e-7)
+    np.testing.assert_allclose(V.max(axis=0), hull.hi, atol=1e-7)
+    D = rng.standard_normal((30, 3))
+    np.testing.assert_allclose((V @ D.T).max(axis=0), Z.support_many(D), rtol=1e-7, atol=1e-7)
+    assert vertex_candidate_count(8, 2) == 28 * 64
+
+
+def test_hull_geometry_moments_of_a_box_and_a_triangle_are_exact():
+    box = hull_geometry(np.array([[0, 0], [2, 0], [0, 1], [2, 1], [1, 0.5]], dtype=float))
+    assert box.volume == pytest.approx(2.0)
+    np.testing.assert_allclose(box.centroid, [1.0, 0.5])
+    np.testing.assert_allclose(box.covariance, np.diag([4 / 12, 1 / 12]), atol=1e-12)
+    tri = hull_geometry(np.array([[0, 0], [1, 0], [0, 1]], dtype=float))
+    np.testing.assert_allclose(tri.centroid, [1 / 3, 1 / 3])
+    np.testing.assert_allclose(tri.covariance, [[1 / 18, -1 / 36], [-1 / 36, 1 / 18]], atol=1e-12)
+
+
+def test_exact_samples_match_exact_area_fractions_in_2d():
+    rng = np.random.default_rng(2)
+    x = PENTAGON.sample(rng, 4000)
+    assert all(PENTAGON.contains(p) for p in x[:20])
+    for a in (0.0, 0.4, 0.9):     # the part with x1 ≤ a
+        lo = PENTAGON.interval_hull().lo[0]
+        part = PENTAGON.intersect_preimage([[1.0, 0.0]], ss.Box([lo - 1], [a]))
+        p = part.area() / PENTAGON.area()
+        assert np.mean(x[:, 0] <= a) == pytest.approx(p, abs=binomial_bound(p, 4000))
+
+
+def test_exact_samples_match_exact_volume_fractions_in_3d():
+    rng = np.random.default_rng(3)
+    Z = ss.ConstrainedZonotope(rng.standard_normal((3, 6)), np.zeros(3), A=rng.standard_normal((1, 6)),
+                               b=[0.2])
+    x = Z.sample(rng, 4000, method="exact")
+    d = np.array([1.0, -0.5, 0.3])
+    cut = float(np.median(x @ d))
+    lo = -Z.support(-d)
+    part = Z.intersect_preimage(d[None, :], ss.Box([lo - 1], [cut]))
+    p = hull_geometry(cz_vertices(part)).volume / hull_geometry(cz_vertices(Z)).volume
+    assert np.mean(x @ d <= cut) == pytest.approx(p, abs=binomial_bound(p, 4000))
+    np.testing.assert_allclose(x.mean(axis=0), exact_geometry(Z).centroid, atol=0.05)
+
+
+def test_hit_and_run_on_an_h_polytope_matches_area_fractions_without_any_chord_program():
+    x = TRIANGLE.sample(np.random.default_rng(4), 3000)       # H-polytope: hit-and-run, closed chords
+    assert np.all(x.sum(axis=1) <= 1 + 1e-12) and np.all(x >= -1e-12)
+    assert np.mean(x.sum(axis=1) <= 0.5) == pytest.approx(0.25, abs=0.04)
+    np.testing.assert_allclose(x.mean(axis=0), [1 / 3, 1 / 3], atol=0.03)
+
+
+def test_hit_and_run_with_program_chords_stays_inside_and_is_roughly_uniform():
+    # A set without an H-representation: every chord is one small program (short chain, loose bound).
+    fat = ss.ConstrainedZonotope([[1.0, 0.0, 0.5], [0.0, 1.0, 0.5]], [0.0, 0.0], A=[[0.5, 0.5, 1.0]], b=[0.2])
+    x = hit_and_run(fat, np.random.default_rng(5), 150, thin=2, burn_in=60)
+    assert all(fat.contains(p) for p in x[::15])
+    part = fat.intersect_preimage([[1.0, 0.0]], ss.Box([-5.0], [0.0]))
+    p = part.area() / fat.area()
+    assert np.mean(x[:, 0] <= 0.0) == pytest.approx(p, abs=0.12)
+
+
+def test_samplers_refuse_empty_flat_and_unknown_requests():
+    rng = np.random.default_rng(6)
+    with pytest.raises(ValueError, match="empty set"):
+        uniform_sample(ss.ConstrainedZonotope(np.eye(1), [0], A=[[1.0]], b=[3.0]), rng)
+    with pytest.raises(ValueError, match="no interior"):
+        hit_and_run(ss.HPolytope([[1.0, -1.0], [-1.0, 1.0], [1.0, 0.0], [-1.0, 0.0]], [0, 0, 1, 1]), rng, 2)
+    with pytest.raises(ValueError, match="method must be one of"):
+        PENTAGON.sample(rng, 2, method="gibbs")
+    with pytest.raises(ValueError, match="no exact sampler"):
+        TRIANGLE.sample(rng, 2, method="exact")
