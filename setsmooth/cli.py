@@ -155,10 +155,10 @@ def _run_figures(names, figures_dir, out, runs, seed, workers, progress, executo
 
 
 def _upload_scripts(client, figures_dir: Path) -> None:
-    # Helpers (_outputs, _<paper>_examples) first: uploading a module imports it on every worker.
-    scripts = sorted(figures_dir.glob("*.py"), key=lambda p: (not p.name.startswith("_"), p.name))
-    for path in scripts:
-        client.upload_file(str(path))
+    # load=False: the workers import the scripts when a trial needs one, after all are there (loading
+    # on upload would import _lsu_examples before its sibling _outputs arrived).
+    for path in sorted(figures_dir.glob("*.py")):
+        client.upload_file(str(path), load=False)
 
 
 def main(argv: list[str] | None = None) -> int:
