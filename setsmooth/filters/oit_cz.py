@@ -1,0 +1,142 @@
+"""The loop of the OIT-CZ SMF (stability paper Algorithm 3); `oit.oit_cz_filter` is its public door.
+
+Every interval hull the algorithm takes is certified (weak-duality upper bounds, `solvers.certify`), so
+the boxes T̂^ō, P_o·IH and the radius ℓ_k that the later steps build on are outer bounds in floating
+point; the windows' hulls share one solver instance per window structure
+(`setsmooth.solvers.parametric.ParametricSupport`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..sets.algebra import linear_map
+from ..solvers.parametric import ParametricSupport
+from ._oit_support import Structure
+from ._window import Window
+from .classical import _predict, _update
+from .oit import OITResult, _reset
+
+
+def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilon: float,
+               upsilon: float, want_hulls: bool) -> OITResult:
+    n, T, d = system.n, ys.shape[0] - 1, delta_bar
+    eye2 = np.vstack([np.eye(n), -np.eye(n)])
+    estimates, resets, thetas = [], [], {}
+    lo, hi = np.full((T + 1, n), np.nan), np.full((T + 1, n), np.nan)
+    alpha = np.full(T + 1, np.nan)
+    detectable = not st.observable
+    n_obar = n - st.n_o
+    X0_obar = linear_map(st.P_obar, X0) if detectable else None
+    line6: list[tuple[np.ndarray, np.ndarray]] = []  # T̂^ō_k of Line 6: (centre, half-widths), k < δ̄
+
+    # Lines 2–6: the exact CZ filter, reset when empty.
+    Z = None
+    for k in range(min(d, T + 1)):
+        prior = X0 if k == 0 else _predict(system, k - 1, Z)
+        Z = _update(system, k, prior, ys[k])
+        if Z.is_empty():
+            Z, prior, thetas[k] = _reset(system, ys, k, st, X0_obar)
+            resets.append(k)
+        if detectable:
+            line6.append(_hull(linear_map(st.P_obar, prior), _pm(np.eye(n_obar))))
+        if want_hulls:
+            lo[k], hi[k] = _bounds(_support(Z, eye2), n)
+        estimates.append(Z)
+    if T < d:
+        return OITResult(estimates, resets, thetas, d, (lo, hi) if want_hulls else None, alpha)
+
+    if not detectable:
+        window = Window(system, d, np.eye(n))
+        engine = ParametricSupport(window.G, window.A, eye2) if want_hulls else None
+        zero, free = np.zeros(n), np.full(n, np.inf)
+        for k in range(d, T + 1):
+            c, b, h = window.data(ys, k, zero, free)
+            estimates.append(window.estimate_from(c, b, h))
+            if want_hulls:
+                lo[k], hi[k] = _bounds(engine.values(c, b, h), n)
+        return OITResult(estimates, resets, thetas, d, (lo, hi) if want_hulls else None, alpha)
+
+    # Lines 7–12 for a detectable (A, C).
+    P, Po, n_o = st.P, st.P_o, st.n_o
+    L = st.A_21 @ Po  # Ã_21 Z̃^o_k = (Ã_21 P_o) Z_k
+    dirs = np.vstack([eye2, _pm(L)])
+    first = Window(system, d, P.T)                                    # prior P⁻¹(ℝ^{n_o} × box)
+    later = Window(system, d, P.T @ _block_diag(Po, np.eye(n_obar)))  # prior P⁻¹(P_o·IH × B_α)
+    engines = {id(first): ParametricSupport(first.G, first.A, dirs),
+               id(later): ParametricSupport(later.G, later.A, dirs)}
+    BW = linear_map(system.B(0), system.W)
+    win_c, win_r = _hull(linear_map(st.P_obar @ np.eye(n), BW), _pm(np.eye(n_obar)))  # IH(B̃_ō W)
+    Aobar_power = np.eye(n_obar)
+    ell_prev, c_obar, d_delta = 0.0, None, None
+    ball: dict[int, tuple[np.ndarray, float]] = {}  # T̂^ō_k = B_α_k[ĉ^ō_k], k ≥ δ̄
+    for k in range(d, T + 1):
+        i = k - d
+        if i < d:  # Line 8 with θ̄ = ∞ (Lemma 1) and T̂^ō_i of Line 6
+            c_box, r_box = line6[i]
+            window = first
+            c_p = P.T @ np.concatenate([np.zeros(n_o), c_box])
+            h_p = np.concatenate([np.full(n_o, np.inf), r_box])
+        else:      # Line 8 with T̂^o = P_o·IH(Z_i) and T̂^ō_i = B_α_i[ĉ^ō_i]
+            c_ball, a_ball = ball[i]
+            window = later
+            centre, radius = (hi[i] + lo[i]) / 2, (hi[i] - lo[i]) / 2
+            c_p = P.T @ np.concatenate([Po @ centre, c_ball])
+            h_p = np.concatenate([np.maximum(radius + _ulp(hi[i], lo[i]), 0.0), np.full(n_obar, a_ball)])
+        c, b, h = window.data(ys, k, c_p, h_p)
+        Zk = window.estimate_from(c, b, h)
+        estimates.append(Zk)
+        values = engines[id(window)].values(c, b, h)
+        lo[k], hi[k] = _bounds(values[:2 * n], n)
+        in_lo, in_hi = _bounds(values[2 * n:], n_obar)
+        # Line 9: IH(Ã_21 Z̃^o_k ⊕ B̃_ō W) = IH(Ã_21 Z̃^o_k) ⊕ IH(B̃_ō W).
+        c_in = (in_lo + in_hi) / 2 + win_c
+        g_in = (in_hi - in_lo) / 2 + win_r + _ulp(in_hi, in_lo)
+        if k == d:  # ĉ^ō_δ̄ and d∞(Z̃^ō_δ̄) from the certified hull of P_ō Z_δ̄
+            ob_c, ob_r = _hull(linear_map(st.P_obar, Zk), _pm(np.eye(n_obar)))
+            c_obar, d_delta = ob_c, 2.0 * float(ob_r.max())
+        # Line 12 (the paper's α_k) and Line 10–11.
+        a_k = 0.5 * _inf_norm(Aobar_power) * d_delta + upsilon * ell_prev + epsilon
+        alpha[k] = a_k
+        ball[k] = (c_obar, a_k)
+        ell_prev = max(float(g_in.max()), ell_prev)
+        c_obar = st.A_obar @ c_obar + c_in
+        Aobar_power = st.A_obar @ Aobar_power
+    return OITResult(estimates, resets, thetas, d, (lo, hi) if want_hulls else None, alpha)
+
+
+def _pm(L: np.ndarray) -> np.ndarray:
+    return np.vstack([L, -L])
+
+
+def _block_diag(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    out = np.zeros((a.shape[0] + b.shape[0], a.shape[1] + b.shape[1]))
+    out[:a.shape[0], :a.shape[1]] = a
+    out[a.shape[0]:, a.shape[1]:] = b
+    return out
+
+
+def _support(Z, D: np.ndarray) -> np.ndarray:
+    return Z.support_many(D, certified=True)
+
+
+def _bounds(values: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """(lo, hi) from the support values of [L; −L]."""
+    return -values[n:2 * n], values[:n]
+
+
+def _hull(S, D: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Centre and half-widths of the certified interval hull of S (D = [I; −I]), rounded outward."""
+    m = D.shape[0] // 2
+    lo, hi = _bounds(_support(S, D), m)
+    return (lo + hi) / 2, (hi - lo) / 2 + _ulp(hi, lo)
+
+
+def _ulp(hi: np.ndarray, lo: np.ndarray) -> np.ndarray:
+    """A few units in the last place of the bounds: centre ± half-width then covers [lo, hi] though
+    (lo + hi)/2 and (hi − lo)/2 are rounded."""
+    return 4.0 * np.spacing(np.maximum(np.abs(hi), np.abs(lo)))
+
+
+def _inf_norm(M: np.ndarray) -> float:
+    return float(np.abs(M).sum(axis=1).max()) if M.size else 0.0
