@@ -30,6 +30,7 @@ _EXPORTS = {
     "IntervalEstimates": ".intervals",
     "montecarlo": ".montecarlo",
     "paper_examples": ".paper_examples",
+    "analysis": ".analysis",
 }
 
 __all__ = [
@@ -42,6 +43,7 @@ __all__ = [
     "reduce", "ReductionMethod", "DropZeros", "DropDependentConstraints", "MergeParallelGenerators",
     "Rescale", "EliminateConstraints", "Girard", "Combastel", "IntervalHull", "CORA_GIRARD",
     "CORA_COMBASTEL",
+    "analysis",
 ]
 
 
@@ -60,7 +62,7 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
-    from . import montecarlo, paper_examples
+    from . import analysis, montecarlo, paper_examples
     from .filters import KalmanResult, classical_filter, interval_filter, kalman_filter, rts_smoother
     from .intervals import IntervalEstimates
     from .sets import (Box, CartesianProduct, ConstrainedZonotope, ConvexSet, Ellipsoid, EmptySet,

@@ -80,3 +80,10 @@ def gamma(k: int) -> float:
     """Higham's γ_k = k·u / (1 − k·u): relative error bound of a k-term floating-point dot product."""
     ku = k * UNIT_ROUNDOFF
     return ku / (1.0 - ku)
+
+#: Margin of the spectral verdicts of `setsmooth.analysis`: (A, C) is detectable when ρ(Ã_ō) < 1 − this.
+SPECTRAL_TOL = 1e-9
+
+#: Eigenvalues within this of the unit circle count as on it for marginal stability, and are grouped
+#: into one cluster within this distance (a defective eigenvalue of multiplicity 3 splits by ~eps^{1/3}).
+SPECTRAL_CLUSTER_TOL = 1e-5
