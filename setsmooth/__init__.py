@@ -24,7 +24,7 @@ _EXPORTS = {
     "SolverError": ".solvers",
     **dict.fromkeys(["LinearSystem", "NonlinearSystem", "simulate"], ".systems"),
     **dict.fromkeys(["classical_filter", "interval_filter", "kalman_filter", "rts_smoother",
-                     "KalmanResult"], ".filters"),
+                     "KalmanResult", "oit_inspired_filter", "oit_cz_filter", "OITResult"], ".filters"),
     **dict.fromkeys(["optimal_smoother", "interval_smoother"], ".smoothers"),
     **dict.fromkeys(["trajectory_set", "filtering_map"], ".trajectories"),
     "IntervalEstimates": ".intervals",
@@ -64,6 +64,7 @@ def __dir__() -> list[str]:
 if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
     from . import analysis, montecarlo, paper_examples
     from .filters import KalmanResult, classical_filter, interval_filter, kalman_filter, rts_smoother
+    from .filters import OITResult, oit_cz_filter, oit_inspired_filter
     from .intervals import IntervalEstimates
     from .sets import (Box, CartesianProduct, ConstrainedZonotope, ConvexSet, Ellipsoid, EmptySet,
                        GeneralizedIntersection, HPolytope, Intersection, LinearMap, MinkowskiSum, Reals,

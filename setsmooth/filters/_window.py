@@ -113,6 +113,12 @@ class Window:
         """F_{k,k−δ̄}(Z(M, c_p, [], [], h_p)) as an extended CZ sharing this window's G and A."""
         return self.estimate_from(*self.data(ys, k, c_p, h_p))
 
+    def free(self, count: int) -> np.ndarray:
+        """The free-factor pattern when the prior's first ``count`` factors are free (h = ∞)."""
+        out = np.zeros(self.ng, dtype=bool)
+        out[:count] = True
+        return out
+
     def estimate_from(self, c: np.ndarray, b: np.ndarray, h: np.ndarray) -> ConstrainedZonotope:
         """The window CZ with this window's G and A and the given (c, b, h)."""
         return ConstrainedZonotope._trusted(self.G, c, self.A, b, h)

@@ -53,8 +53,10 @@ class OITResult:
     hulls : tuple of ndarray or None
         (lo, hi), shape (T+1, n): certified interval hulls of the estimates, when requested (and always
         computed for systems that are not observable, whose Lines 8–12 need them).
-    alpha : ndarray
+    alpha : ndarray, shape (T+1,)
         α_k of Line 12 for k ≥ δ̄ (NaN before, and for observable systems).
+    c_obar : ndarray, shape (T+1, n − n_o)
+        ĉ^ō_k of Line 11 for k ≥ δ̄ (NaN before): T̂^ō_k = B_{α_k}[ĉ^ō_k] in the coordinates x̃ = Px.
     """
 
     estimates: list
@@ -63,6 +65,7 @@ class OITResult:
     delta_bar: int
     hulls: tuple | None = None
     alpha: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    c_obar: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
 
 
 def oit_inspired_filter(system, X0: ConvexSet, ys: Any, *, delta: int | None = None,
@@ -208,10 +211,10 @@ def _check_int(value: Any, name: str, lowest: int) -> int:
 
 
 def _prior_from(st: Structure, T_o: ConvexSet, T_obar: ConvexSet | None) -> ConvexSet:
-    """P⁻¹(T_o × T_ō) (P orthogonal: P⁻¹ = Pᵀ); T_o alone for observable systems."""
+    """P⁻¹(T_o × T_ō) (U = P⁻¹); T_o alone for observable systems."""
     if st.observable:
-        return linear_map(st.P.T, T_o)
-    return linear_map(st.P.T, cartesian_product(T_o, T_obar))
+        return linear_map(st.U, T_o)
+    return linear_map(st.U, cartesian_product(T_o, T_obar))
 
 
 def _run(system, ys: np.ndarray, i: int, k: int, prior: ConvexSet) -> ConvexSet:

@@ -25,6 +25,7 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
     estimates, resets, thetas = [], [], {}
     lo, hi = np.full((T + 1, n), np.nan), np.full((T + 1, n), np.nan)
     alpha = np.full(T + 1, np.nan)
+    c_obar_all = np.full((T + 1, n - st.n_o), np.nan)
     detectable = not st.observable
     n_obar = n - st.n_o
     X0_obar = linear_map(st.P_obar, X0) if detectable else None
@@ -48,7 +49,7 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
 
     if not detectable:
         window = Window(system, d, np.eye(n))
-        engine = ParametricSupport(window.G, window.A, eye2) if want_hulls else None
+        engine = ParametricSupport(window.G, window.A, eye2, window.free(n)) if want_hulls else None
         zero, free = np.zeros(n), np.full(n, np.inf)
         for k in range(d, T + 1):
             c, b, h = window.data(ys, k, zero, free)
@@ -58,15 +59,19 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
         return OITResult(estimates, resets, thetas, d, (lo, hi) if want_hulls else None, alpha)
 
     # Lines 7–12 for a detectable (A, C).
-    P, Po, n_o = st.P, st.P_o, st.n_o
+    U, Po, n_o = st.U, st.P_o, st.n_o
+    # The window priors' centres are computed in floating point: their error, at most a few units of
+    # roundoff of ‖U‖(‖P_o‖|c| + |ĉ|), is covered by padding every prior factor bound by this bound.
+    cond = float(np.linalg.norm(U, 2) * max(1.0, np.linalg.norm(Po, 2)))
+    pad_unit = 64.0 * n * np.finfo(float).eps * cond
     L = st.A_21 @ Po  # Ã_21 Z̃^o_k = (Ã_21 P_o) Z_k
     dirs = np.vstack([eye2, _pm(L)])
-    first = Window(system, d, P.T)                                    # prior P⁻¹(ℝ^{n_o} × box)
-    later = Window(system, d, P.T @ _block_diag(Po, np.eye(n_obar)))  # prior P⁻¹(P_o·IH × B_α)
-    engines = {id(first): ParametricSupport(first.G, first.A, dirs),
-               id(later): ParametricSupport(later.G, later.A, dirs)}
+    first = Window(system, d, U)                                    # prior P⁻¹(ℝ^{n_o} × box)
+    later = Window(system, d, U @ _block_diag(Po, np.eye(n_obar)))  # prior P⁻¹(P_o·IH × B_α)
+    engines = {id(first): ParametricSupport(first.G, first.A, dirs, first.free(n_o)),
+               id(later): ParametricSupport(later.G, later.A, dirs, later.free(0))}
     BW = linear_map(system.B(0), system.W)
-    win_c, win_r = _hull(linear_map(st.P_obar @ np.eye(n), BW), _pm(np.eye(n_obar)))  # IH(B̃_ō W)
+    win_c, win_r = _hull(linear_map(st.P_obar, BW), _pm(np.eye(n_obar)))  # IH(B̃_ō W)
     Aobar_power = np.eye(n_obar)
     ell_prev, c_obar, d_delta = 0.0, None, None
     ball: dict[int, tuple[np.ndarray, float]] = {}  # T̂^ō_k = B_α_k[ĉ^ō_k], k ≥ δ̄
@@ -75,14 +80,16 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
         if i < d:  # Line 8 with θ̄ = ∞ (Lemma 1) and T̂^ō_i of Line 6
             c_box, r_box = line6[i]
             window = first
-            c_p = P.T @ np.concatenate([np.zeros(n_o), c_box])
-            h_p = np.concatenate([np.full(n_o, np.inf), r_box])
+            c_p = U @ np.concatenate([np.zeros(n_o), c_box])
+            pad = pad_unit * float(np.abs(c_box).max(initial=0.0))
+            h_p = np.concatenate([np.full(n_o, np.inf), r_box + pad])
         else:      # Line 8 with T̂^o = P_o·IH(Z_i) and T̂^ō_i = B_α_i[ĉ^ō_i]
             c_ball, a_ball = ball[i]
             window = later
             centre, radius = (hi[i] + lo[i]) / 2, (hi[i] - lo[i]) / 2
-            c_p = P.T @ np.concatenate([Po @ centre, c_ball])
-            h_p = np.concatenate([np.maximum(radius + _ulp(hi[i], lo[i]), 0.0), np.full(n_obar, a_ball)])
+            c_p = U @ np.concatenate([Po @ centre, c_ball])
+            pad = pad_unit * (float(np.abs(centre).max()) + float(np.abs(c_ball).max(initial=0.0)))
+            h_p = np.concatenate([radius + _ulp(hi[i], lo[i]) + pad, np.full(n_obar, a_ball + pad)])
         c, b, h = window.data(ys, k, c_p, h_p)
         Zk = window.estimate_from(c, b, h)
         estimates.append(Zk)
@@ -98,11 +105,12 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
         # Line 12 (the paper's α_k) and Line 10–11.
         a_k = 0.5 * _inf_norm(Aobar_power) * d_delta + upsilon * ell_prev + epsilon
         alpha[k] = a_k
+        c_obar_all[k] = c_obar
         ball[k] = (c_obar, a_k)
         ell_prev = max(float(g_in.max()), ell_prev)
         c_obar = st.A_obar @ c_obar + c_in
         Aobar_power = st.A_obar @ Aobar_power
-    return OITResult(estimates, resets, thetas, d, (lo, hi) if want_hulls else None, alpha)
+    return OITResult(estimates, resets, thetas, d, (lo, hi) if want_hulls else None, alpha, c_obar_all)
 
 
 def _pm(L: np.ndarray) -> np.ndarray:
