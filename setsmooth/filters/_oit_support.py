@@ -100,11 +100,12 @@ def _grid_upsilon(A_obar: np.ndarray) -> float:
     rho = float(max(abs(np.linalg.eigvals(A_obar))))
     if rho >= 1:
         raise ValueError(f"A_obar is not Schur stable (spectral radius {rho:.6g}): (A, C) is not detectable")
-    # ‖(A/γ)^k‖∞ = ‖A^k‖∞ / γ^k, for every γ of the grid at once; the powers stop once the largest
-    # ratio (at the smallest γ) has fallen far below every running maximum (it decays like (ρ/γ)^k).
+    # ‖(A/γ)^k‖∞ = ‖A^k‖∞ / γ^k, for every γ of the grid at once. Once r_K = ‖A^K‖∞/γ^K ≤ 1, the
+    # maximum over all k is among k < K (r_{qK+j} ≤ r_K^q r_j by submultiplicativity): that γ is done.
     gammas = rho + (1 - rho) / 1001 * np.arange(1, 1001)
     log_gammas = np.log(gammas)
     worst = np.ones_like(gammas)
+    done = np.zeros(gammas.size, dtype=bool)
     power = np.eye(n)
     for k in range(1, 1001):
         power = power @ A_obar
@@ -112,7 +113,8 @@ def _grid_upsilon(A_obar: np.ndarray) -> float:
         if norm == 0.0:
             break
         ratios = np.exp(np.log(norm) - k * log_gammas)
-        np.maximum(worst, ratios, out=worst)
-        if k > n and ratios[0] < 1e-9 * worst.min():
+        worst = np.where(done, worst, np.maximum(worst, ratios))
+        done |= ratios <= 1.0
+        if done.all():
             break
     return float(np.min(worst / (1 - gammas)))

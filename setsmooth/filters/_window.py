@@ -83,6 +83,7 @@ class Window:
         for arr in (G, Amat):
             arr.flags.writeable = False
         self.G, self.A = G, Amat
+        self._G0, self._A0 = np.zeros((n, 0)), np.zeros((0, 0))  # cheap stand-ins for the copy
         self._sysA, self._C = A, C
         self._Bcw = B @ Wz.c
         self._Dcv = D @ Vz.c
@@ -120,8 +121,14 @@ class Window:
         return out
 
     def estimate_from(self, c: np.ndarray, b: np.ndarray, h: np.ndarray) -> ConstrainedZonotope:
-        """The window CZ with this window's G and A and the given (c, b, h)."""
-        return ConstrainedZonotope._trusted(self.G, c, self.A, b, h)
+        """The window CZ with this window's G and A and the given (c, b, h).
+
+        G and A are not copied: every window shares this object's private read-only arrays (the CZ
+        constructor's defensive copy is for arrays a caller might still write to).
+        """
+        Z = ConstrainedZonotope._trusted(self._G0, c, self._A0, b, h)
+        Z.G, Z.A = self.G, self.A
+        return Z
 
 
 def _dense(M) -> np.ndarray:
