@@ -57,6 +57,10 @@ class OITResult:
         α_k of Line 12 for k ≥ δ̄ (NaN before, and for observable systems).
     c_obar : ndarray, shape (T+1, n − n_o)
         ĉ^ō_k of Line 11 for k ≥ δ̄ (NaN before): T̂^ō_k = B_{α_k}[ĉ^ō_k] in the coordinates x̃ = Px.
+    step_seconds, hull_seconds : ndarray, shape (T+1,)
+        Wall time of each step of the filter, and of the interval hull taken for ``hulls=True``
+        after it (zero otherwise). For systems that are not observable every hull the algorithm
+        needs is step time.
     """
 
     estimates: list
@@ -66,6 +70,8 @@ class OITResult:
     hulls: tuple | None = None
     alpha: np.ndarray = field(default_factory=lambda: np.zeros(0))
     c_obar: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    step_seconds: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    hull_seconds: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
 def oit_inspired_filter(system, X0: ConvexSet, ys: Any, *, delta: int | None = None,

@@ -27,7 +27,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from . import clarabel_lp
-from .certify import Operators, certified_bound, correct_multipliers, free_factor_bound, normal_solver
+from .certify import FREE_BOUND_DENSE_MAX, _U, certified_bound, gamma
 from .clarabel_lp import SolverError, _csc, _zero_cost
 from .instances import cached_instance
 
@@ -65,10 +65,24 @@ class ParametricSupport:
         nc, ng = self.A.shape
         self.nc, self.ng = nc, ng
         self._q = -(self.D @ self.G)  # Clarabel minimizes: q = −Gᵀd, one row per direction
-        self._ops = Operators(self.G, self.A)
-        AF = self.A[:, np.flatnonzero(self.free)]
-        self._AF = sp.csc_matrix(AF)
-        self._normal = normal_solver(self._AF) if AF.shape[1] else None
+        self._ops = _DenseOperators(self.G, self.A)
+        # What depends on A only is prepared once: the least-squares correction of the multipliers
+        # on the free factors and the smallest eigenvalue of A_FᵀA_F behind their rigorous bound.
+        free_cols = np.flatnonzero(self.free)
+        self._AF = self.A[:, free_cols].toarray()
+        self._correction = None
+        self._lam_min = None
+        if free_cols.size:
+            gram = self._AF.T @ self._AF
+            try:
+                self._correction = self._AF @ np.linalg.inv(gram)  # δ = A_F (A_FᵀA_F)⁻¹ r
+            except np.linalg.LinAlgError:
+                self._correction = None
+            lam_min = _free_lam_min(self.A, free_cols)
+            self._lam_min = lam_min if lam_min is not None and lam_min > 0 else None
+            rows = np.unique(self.A[:, free_cols].indices)
+            self._rows = rows
+            self._abs_ARB = abs(sp.csr_matrix(self.A)[rows][:, self.fin]).toarray()
 
     def _solver(self, b0: np.ndarray) -> clarabel.DefaultSolver:
         nf = self.fin.size
@@ -128,10 +142,44 @@ class ParametricSupport:
 
     def _certify(self, c, b, h, lam, ok) -> np.ndarray:
         D = self.D[ok]
+        beta = 0.0
         if self._AF.shape[1]:
             gF = (D @ self.G)[:, self.free]
-            lam = correct_multipliers(self._AF, gF, lam, self._normal)
-            beta = free_factor_bound(self.A, b, h)
-        else:
-            beta = 0.0
+            if self._correction is not None:
+                for _ in range(2):  # the second pass removes what the first left by rounding
+                    lam = lam + (gF - lam @ self._AF) @ self._correction.T
+            beta = self._free_bound(b, h)
         return certified_bound(D, self.G, c, self.A, b, h, lam, beta, self._ops)
+
+    def _free_bound(self, b: np.ndarray, h: np.ndarray) -> float | None:
+        """β ≥ max ‖ξ_F‖∞ over the factor set, as `certify.free_factor_bound` (its λ_min once)."""
+        if self._lam_min is None:
+            return None
+        residual = np.abs(b[self._rows]) + self._abs_ARB @ h[self.fin]
+        rhs = np.linalg.norm(residual) * (1.0 + gamma(self.ng + 4))
+        bound = rhs / np.sqrt(self._lam_min) * (1.0 + gamma(8))
+        return float(bound) if np.isfinite(bound) else None
+
+
+class _DenseOperators:
+    """`certify.Operators` with dense transposes (small windows: dense products beat sparse ones)."""
+
+    def __init__(self, G: np.ndarray, A: sp.csc_matrix):
+        self.Gt = np.ascontiguousarray(G.T)
+        self.absGt = np.abs(self.Gt)
+        self.At = np.ascontiguousarray(A.toarray().T)
+        self.absAt = np.abs(self.At)
+        col_nnz = np.diff(A.indptr) if A.shape[0] else np.zeros(A.shape[1], dtype=int)
+        self.gamma_cols = gamma(col_nnz + 2)
+
+
+def _free_lam_min(A: sp.csc_matrix, free_cols: np.ndarray) -> float | None:
+    """A rigorous lower bound on λ_min(A_FᵀA_F) (the computation of `certify.free_factor_bound`)."""
+    if free_cols.size > FREE_BOUND_DENSE_MAX:
+        return None
+    AF = A[:, free_cols]
+    gram = (AF.T @ AF).toarray()
+    absAF = abs(AF)
+    gram_err = float(gamma(A.shape[0] + 2) * np.linalg.norm((absAF.T @ absAF).toarray()))
+    eig_err = 8.0 * free_cols.size * _U * np.linalg.norm(gram)
+    return float(np.linalg.eigvalsh(gram)[0]) - gram_err - eig_err
