@@ -31,6 +31,8 @@ _EXPORTS = {
     "montecarlo": ".montecarlo",
     "paper_examples": ".paper_examples",
     "analysis": ".analysis",
+    **dict.fromkeys(["observation_set", "observation_information_set", "observation_information_tower"],
+                    ".observation_information"),
 }
 
 __all__ = [
@@ -43,7 +45,7 @@ __all__ = [
     "reduce", "ReductionMethod", "DropZeros", "DropDependentConstraints", "MergeParallelGenerators",
     "Rescale", "EliminateConstraints", "Girard", "Combastel", "IntervalHull", "CORA_GIRARD",
     "CORA_COMBASTEL",
-    "analysis",
+    "analysis", "observation_set", "observation_information_set", "observation_information_tower",
 ]
 
 
@@ -66,6 +68,8 @@ if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
     from .filters import KalmanResult, classical_filter, interval_filter, kalman_filter, rts_smoother
     from .filters import OITResult, oit_cz_filter, oit_inspired_filter
     from .intervals import IntervalEstimates
+    from .observation_information import (observation_information_set, observation_information_tower,
+                                          observation_set)
     from .sets import (Box, CartesianProduct, ConstrainedZonotope, ConvexSet, Ellipsoid, EmptySet,
                        GeneralizedIntersection, HPolytope, Intersection, LinearMap, MinkowskiSum, Reals,
                        Zonotope)

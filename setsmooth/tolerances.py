@@ -87,3 +87,7 @@ SPECTRAL_TOL = 1e-9
 #: Eigenvalues within this of the unit circle count as on it for marginal stability, and are grouped
 #: into one cluster within this distance (a defective eigenvalue of multiplicity 3 splits by ~eps^{1/3}).
 SPECTRAL_CLUSTER_TOL = 1e-5
+
+#: Υ∞ (Algorithm 3, Line 1): the golden-section search over γ ∈ (ρ(Ã_ō), 1) stops when the bracket
+#: is narrower than this fraction of 1 − ρ (the returned value is attained at a γ, so it stays a bound).
+UPSILON_GAMMA_TOL = 1e-6
