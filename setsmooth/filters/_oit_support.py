@@ -3,7 +3,7 @@
 `Structure` collects, for one time-invariant (A, C), the pieces Algorithms 2 and 3 use: the orthogonal
 P of the observability decomposition (17) and U = P⁻¹ (x̃ = Px = [x_o; x_ō]), n_o, the blocks Ã_o, Ã_21, Ã_ō,
 μ_o, the index n_λ0 of the eigenvalue 0 of Ã_o (Lemma 1's k_* = max{μ_o − 1 + n_λ0, 1}) and Υ∞
-(Algorithm 3 Line 1). The decomposition comes from `setsmooth.analysis`; the index of the zero
+(Algorithm 3 Line 1). The decomposition and Υ∞ come from `setsmooth.analysis`; the index of the zero
 eigenvalue is computed here (a rank sequence).
 """
 
@@ -84,37 +84,7 @@ def zero_eigenvalue_index(M: np.ndarray) -> int:
 
 
 def upsilon_inf(A_obar: np.ndarray) -> float:
-    """Υ∞ of Algorithm 3 Line 1, from `setsmooth.analysis.upsilon_inf` (a grid search over γ here
-    until that is merged: γ = ρ + jh, h = (1 − ρ)/1001, max over k ≤ 1000 of ‖(A_ō/γ)^k‖∞)."""
-    try:
-        from ..analysis import upsilon_inf as analysis_upsilon
-    except ImportError:  # pragma: no cover
-        return _grid_upsilon(A_obar)
+    """Υ∞ of Algorithm 3 Line 1 (`setsmooth.analysis.upsilon_inf`)."""
+    from ..analysis import upsilon_inf as analysis_upsilon
+
     return float(analysis_upsilon(A_obar))
-
-
-def _grid_upsilon(A_obar: np.ndarray) -> float:
-    n = A_obar.shape[0]
-    if n == 0:
-        return 0.0
-    rho = float(max(abs(np.linalg.eigvals(A_obar))))
-    if rho >= 1:
-        raise ValueError(f"A_obar is not Schur stable (spectral radius {rho:.6g}): (A, C) is not detectable")
-    # ‖(A/γ)^k‖∞ = ‖A^k‖∞ / γ^k, for every γ of the grid at once. Once r_K = ‖A^K‖∞/γ^K ≤ 1, the
-    # maximum over all k is among k < K (r_{qK+j} ≤ r_K^q r_j by submultiplicativity): that γ is done.
-    gammas = rho + (1 - rho) / 1001 * np.arange(1, 1001)
-    log_gammas = np.log(gammas)
-    worst = np.ones_like(gammas)
-    done = np.zeros(gammas.size, dtype=bool)
-    power = np.eye(n)
-    for k in range(1, 1001):
-        power = power @ A_obar
-        norm = float(np.abs(power).sum(axis=1).max())
-        if norm == 0.0:
-            break
-        ratios = np.exp(np.log(norm) - k * log_gammas)
-        worst = np.where(done, worst, np.maximum(worst, ratios))
-        done |= ratios <= 1.0
-        if done.all():
-            break
-    return float(np.min(worst / (1 - gammas)))
