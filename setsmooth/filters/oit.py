@@ -58,7 +58,7 @@ class OITResult:
     c_obar : ndarray, shape (T+1, n − n_o)
         ĉ^ō_k of Line 11 for k ≥ δ̄ (NaN before): T̂^ō_k = B_{α_k}[ĉ^ō_k] in the coordinates x̃ = Px.
     step_seconds, hull_seconds : ndarray, shape (T+1,)
-        Wall time of each step of the filter, and of the interval hull taken for ``hulls=True``
+        CPU time (this process) of each step of the filter, and of the interval hull taken for ``hulls=True``
         after it (zero otherwise). For systems that are not observable every hull the algorithm
         needs is step time.
     """

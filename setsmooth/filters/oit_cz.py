@@ -9,7 +9,7 @@ point; the windows' hulls share one solver instance per window structure
 from __future__ import annotations
 
 import weakref
-from time import perf_counter
+from time import process_time as perf_counter  # CPU time: robust on a shared machine
 
 import numpy as np
 
