@@ -210,6 +210,14 @@ def check_stability_criterion(A: Any, C: Any, initial_condition, true_initial_se
     CriterionResult
         With conditions (i) and (ii); when both hold Algorithm 1 is stable (well-posed, bounded gap).
 
+    Raises
+    ------
+    ValueError
+        When a set's dimension is not n.
+    NotImplementedError
+        When (i) cannot be decided exactly: the true initial set is neither a box (n ≤ 12) nor 2-D and
+        the observable part has more than two dimensions (see `contains_set`).
+
     Examples
     --------
     >>> import setsmooth as ss
