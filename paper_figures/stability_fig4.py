@@ -37,18 +37,18 @@ EPSILON = 1e-3
 HULL_TOL = 1e-6
 
 
-def trial(rng: np.random.Generator, kind: str, p: int) -> dict:
+def trial(rng: np.random.Generator, kind: str, p: int, n: int = N, T: int = T) -> dict:
     """One run: draw the system, simulate, filter; the hull diameters and gap bounds, k = 0..T."""
     if kind == "observable":
-        drawn = analysis.random_observable_system(rng, N, p, p)
-        delta_bar = N - int(np.linalg.matrix_rank(drawn.C)) + 3
+        drawn = analysis.random_observable_system(rng, n, p, p)
+        delta_bar = n - int(np.linalg.matrix_rank(drawn.C)) + 3
     else:
-        drawn = analysis.random_detectable_system(rng, N, p, p, p)
+        drawn = analysis.random_detectable_system(rng, n, p, p, p)
         delta_bar = 3
     system = drawn.linear_system()
-    true_x0 = ss.Box(-10 * np.ones(N), 10 * np.ones(N))
+    true_x0 = ss.Box(-10 * np.ones(n), 10 * np.ones(n))
     xs, ys = ss.simulate(system, true_x0, T, rng)
-    c = rng.uniform(-1.0, 1.0, N)
+    c = rng.uniform(-1.0, 1.0, n)
     X0 = ss.Box(c - 10.0, c + 10.0)
     res = ss.oit_cz_filter(system, X0, ys, delta_bar=delta_bar, epsilon=EPSILON,
                            decomposition=drawn.decomposition, hulls=True)
@@ -61,13 +61,15 @@ def trial(rng: np.random.Generator, kind: str, p: int) -> dict:
 
 
 def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, workers: int | None = None,
-         progress: bool = True, executor=None) -> dict:
+         progress: bool = True, executor=None, *, n: int = N, T: int = T, observable_p=OBSERVABLE_P,
+         detectable_no=DETECTABLE_NO) -> dict:
+    """The figure; ``n``, ``T``, ``observable_p``, ``detectable_no`` shrink it for tests."""
     clock = Stopwatch()
-    settings = [("observable", p) for p in OBSERVABLE_P] + [("detectable", n_o) for n_o in DETECTABLE_NO]
+    settings = [("observable", p) for p in observable_p] + [("detectable", n_o) for n_o in detectable_no]
     own = executor is None and runs * len(settings) > 1
     pool = ProcessPoolExecutor(workers or 2) if own else executor
     try:
-        results = {s: montecarlo.run(functools.partial(trial, kind=s[0], p=s[1]), runs,
+        results = {s: montecarlo.run(functools.partial(trial, kind=s[0], p=s[1], n=n, T=T), runs,
                                      seed * 100 + i, executor=pool, progress=progress, workers=workers)
                    for i, s in enumerate(settings)}
     finally:
@@ -75,15 +77,15 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
             pool.shutdown()
     panels = {kind: _panel([r for (k, _), rs in results.items() if k == kind for r in rs])
               for kind in ("observable", "detectable")}
-    highlight = {kind: results[(kind, OBSERVABLE_P[0] if kind == "observable" else DETECTABLE_NO[0])][0]
+    highlight = {kind: results[(kind, observable_p[0] if kind == "observable" else detectable_no[0])][0]
                  for kind in panels}
-    fig = _plot(panels, highlight, runs)
-    rows = _rows(panels, results, runs)
+    fig = _plot(panels, highlight, runs, T)
+    rows = _rows(panels, results, T)
     data = {
         "figure": "Stability paper Fig. 4",
         "rows": rows,
-        "settings": {"runs": runs, "seed": seed, "n": N, "T": T, "observable_p_m": OBSERVABLE_P,
-                     "detectable_n_o_p_m": DETECTABLE_NO, "epsilon": EPSILON,
+        "settings": {"runs": runs, "seed": seed, "n": n, "T": T, "observable_p_m": observable_p,
+                     "detectable_n_o_p_m": detectable_no, "epsilon": EPSILON,
                      "delta_bar": "observable n − rank(C) + 3 = 13 − p; detectable 3",
                      "initial_condition": "[−10, 10]^n ⊕ {c}, c ~ U[−1, 1]^n (paper text)",
                      "diameter": "∞-norm diameter of the certified interval hull (2 × largest half-width)",
@@ -104,21 +106,21 @@ def _panel(rs: list[dict]) -> dict:
             "gap_min": gap.min(axis=0), "gap_max": gap.max(axis=0), "gap_mean": gap.mean(axis=0)}
 
 
-def _rows(panels: dict, results: dict, runs: int) -> list[dict]:
+def _rows(panels: dict, results: dict, T: int) -> list[dict]:
     rows = []
     for kind in ("observable", "detectable"):
         rs = [r for (k, _), group in results.items() if k == kind for r in group]
         d = panels[kind]
-        later = slice(20, T + 1)
+        later = slice(min(20, T), T + 1)
         outside = sum(int((~r["inside"][r["delta_bar"]:]).sum()) for r in rs) if kind == "observable" else \
             sum(int((~r["inside"][2 * r["delta_bar"] + 10:]).sum()) for r in rs)
         when = "k ≥ δ̄" if kind == "observable" else "k ≥ 2δ̄ + 10"
         rows += [
-            row(f"{kind}: uniformly bounded — largest ∞-diameter over k ∈ [20, 100], all runs",
+            row(f"{kind}: uniformly bounded — largest ∞-diameter over k ∈ [{later.start}, {T}], all runs",
                 "bounded (plot only)", f"{d['diameter_max'][later].max():.3g}"),
-            row(f"{kind}: mean ∞-diameter at k = 20 / 100", "plot only",
-                f"{d['diameter_mean'][20]:.3g} / {d['diameter_mean'][T]:.3g}"),
-            row(f"{kind}: mean / largest gap bound for k ∈ [20, 100]", "bounded (plot only)",
+            row(f"{kind}: mean ∞-diameter at k = {later.start} / {T}", "plot only",
+                f"{d['diameter_mean'][later.start]:.3g} / {d['diameter_mean'][T]:.3g}"),
+            row(f"{kind}: mean / largest gap bound for k ∈ [{later.start}, {T}]", "bounded (plot only)",
                 f"{d['gap_mean'][later].mean():.3g} / {d['gap_max'][later].max():.3g}"),
             row(f"{kind}: true state outside the hull for {when} (steps, all runs)", "0 (Theorem 4)", outside),
             row(f"{kind}: runs with a Line-5 reset / resets per run", "stars in the highlighted run",
@@ -128,7 +130,7 @@ def _rows(panels: dict, results: dict, runs: int) -> list[dict]:
     return rows
 
 
-def _plot(panels: dict, highlight: dict, runs: int):
+def _plot(panels: dict, highlight: dict, runs: int, T: int):
     k = np.arange(T + 1)
     fig, axes = plt.subplots(2, 2, figsize=(12, 7.5), sharex=True)
     titles = {"observable": f"observable, p = m ∈ {{5..10}}, {runs} runs each",

@@ -71,26 +71,28 @@ def _summary(step: float, hull: float, lo: np.ndarray, hi: np.ndarray, xs: np.nd
             "outside": int((~inside).sum())}
 
 
-def trial(rng: np.random.Generator, T: int) -> dict:
-    return {n: measure(rng, n, T) for n in DIMENSIONS}
+def trial(rng: np.random.Generator, T: int, dimensions=DIMENSIONS) -> dict:
+    return {n: measure(rng, n, T) for n in dimensions}
 
 
 def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, workers: int | None = None,
-         progress: bool = True, executor=None) -> dict:
+         progress: bool = True, executor=None, *, dimensions=DIMENSIONS, steps: int | None = None) -> dict:
+    """The table; ``dimensions`` (a sub-tuple of DIMENSIONS) and ``steps`` shrink it for tests."""
     clock = Stopwatch()
-    T = PAPER_STEPS if runs >= PAPER_RUNS else DEFAULT_STEPS
+    T = steps if steps is not None else (PAPER_STEPS if runs >= PAPER_RUNS else DEFAULT_STEPS)
     # Serial in one process: the three filters are timed side by side on the same trajectories.
-    results = montecarlo.run(functools.partial(trial, T=T), runs, seed, executor="serial", progress=progress)
-    table = {f: {key: [float(np.mean([r[n][f][key] for r in results])) for n in DIMENSIONS]
+    results = montecarlo.run(functools.partial(trial, T=T, dimensions=dimensions), runs, seed,
+                             executor="serial", progress=progress)
+    table = {f: {key: [float(np.mean([r[n][f][key] for r in results])) for n in dimensions]
                  for key in ("step", "hull", "radius", "outside")} for f in FILTERS}
     table["oit"]["step_steady"] = [float(np.median([r[n]["oit"]["step_steady"] for r in results]))
-                                   for n in DIMENSIONS]
-    rows = _rows(table)
-    fig = _plot(table)
+                                   for n in dimensions]
+    rows = _rows(table, dimensions)
+    fig = _plot(table, dimensions)
     data = {
         "figure": "Stability paper Table 1",
         "rows": rows,
-        "settings": {"runs": runs, "seed": seed, "T": T, "n = p = m": DIMENSIONS, "delta_bar": DELTA_BAR,
+        "settings": {"runs": runs, "seed": seed, "T": T, "n = p = m": dimensions, "delta_bar": DELTA_BAR,
                      "x0 and initial condition": "[−10, 10]^n",
                      "baselines": "classical_filter(reduce=ss.CORA_GIRARD | ss.CORA_COMBASTEL): rescale 'iter', "
                                   "reduceConstraints nc = 1, DOF order 1",
@@ -109,49 +111,51 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
     return finish(out, NAME, PAPER, fig, data, clock)
 
 
-def _rows(table: dict) -> list[dict]:
+def _rows(table: dict, dimensions) -> list[dict]:
     rows = []
-    for i, n in enumerate(DIMENSIONS):
+    for i, n in enumerate(dimensions):
+        p = DIMENSIONS.index(n)  # the published column
         g, c, o = (table[f] for f in FILTERS)
         rows += [
             row(f"n = {n}: step only, girard / combastel / OIT-CZ (s)",
-                " / ".join(f"{PUBLISHED_TIME[f][i]:g}" for f in FILTERS),
+                " / ".join(f"{PUBLISHED_TIME[f][p]:g}" for f in FILTERS),
                 f"{g['step'][i]:.3g} / {c['step'][i]:.3g} / {o['step'][i]:.2g} (steady k ≥ δ̄: "
                 f"{o['step_steady'][i]:.2g})"),
             row(f"n = {n}: speed-up of the OIT-CZ step over girard (step only)",
-                f"{PUBLISHED_TIME['girard'][i] / PUBLISHED_TIME['oit'][i]:.0f}×",
+                f"{PUBLISHED_TIME['girard'][p] / PUBLISHED_TIME['oit'][p]:.0f}×",
                 f"{g['step'][i] / o['step'][i]:.0f}× (steady: {g['step'][i] / o['step_steady'][i]:.0f}×)"),
             row(f"n = {n}: step + hull, girard / combastel / OIT-CZ (s)", "not reported",
                 f"{g['step'][i] + g['hull'][i]:.3g} / {c['step'][i] + c['hull'][i]:.3g} / "
                 f"{o['step'][i] + o['hull'][i]:.3g} (girard/OIT = "
                 f"{(g['step'][i] + g['hull'][i]) / (o['step'][i] + o['hull'][i]):.2g}×)"),
             row(f"n = {n}: hull radius, girard / combastel / OIT-CZ",
-                " / ".join(f"{PUBLISHED_RADIUS[f][i]:g}" for f in FILTERS),
+                " / ".join(f"{PUBLISHED_RADIUS[f][p]:g}" for f in FILTERS),
                 f"{g['radius'][i]:.3g} / {c['radius'][i]:.3g} / {o['radius'][i]:.3g} "
                 f"(girard/OIT = {g['radius'][i] / o['radius'][i]:.2g}×; paper "
-                f"{PUBLISHED_RADIUS['girard'][i] / PUBLISHED_RADIUS['oit'][i]:.2g}×)"),
+                f"{PUBLISHED_RADIUS['girard'][p] / PUBLISHED_RADIUS['oit'][p]:.2g}×)"),
             row(f"n = {n}: true state outside the hull (steps, girard / combastel / OIT-CZ)", "0",
                 " / ".join(f"{table[f]['outside'][i]:g}" for f in FILTERS)),
         ]
     return rows
 
 
-def _plot(table: dict):
+def _plot(table: dict, dimensions):
     fig, (ax_t, ax_r) = plt.subplots(1, 2, figsize=(11, 4.2))
-    x = np.arange(len(DIMENSIONS))
+    x = np.arange(len(dimensions))
+    cols = [DIMENSIONS.index(n) for n in dimensions]
     styles = {"girard": ("tab:red", "o"), "combastel": ("tab:orange", "s"), "oit": ("tab:blue", "*")}
     for f in FILTERS:
         color, marker = styles[f]
         ax_t.plot(x, table[f]["step"], marker=marker, color=color, label=f"{f}: step only")
         ax_t.plot(x, np.add(table[f]["step"], table[f]["hull"]), marker=marker, color=color, linestyle="--",
                   label=f"{f}: step + hull")
-        ax_t.plot(x, PUBLISHED_TIME[f], marker=marker, color=color, linestyle=":", alpha=0.6,
+        ax_t.plot(x, np.asarray(PUBLISHED_TIME[f])[cols], marker=marker, color=color, linestyle=":", alpha=0.6,
                   label=f"{f}: paper")
         ax_r.plot(x, table[f]["radius"], marker=marker, color=color, label=f"{f}")
-        ax_r.plot(x, PUBLISHED_RADIUS[f], marker=marker, color=color, linestyle=":", alpha=0.6,
+        ax_r.plot(x, np.asarray(PUBLISHED_RADIUS[f])[cols], marker=marker, color=color, linestyle=":", alpha=0.6,
                   label=f"{f}: paper")
     for ax in (ax_t, ax_r):
-        ax.set_xticks(x, [f"n = {n}" for n in DIMENSIONS])
+        ax.set_xticks(x, [f"n = {n}" for n in dimensions])
         ax.grid(alpha=0.3)
     ax_t.set(yscale="log", ylabel="seconds per step", title="time per step")
     ax_r.set(ylabel="mean interval-hull radius", title="accuracy (∞-radius)")

@@ -44,7 +44,7 @@ __all__ = [
     "IntervalEstimates", "kalman_filter", "rts_smoother", "KalmanResult", "montecarlo", "paper_examples",
     "reduce", "ReductionMethod", "DropZeros", "DropDependentConstraints", "MergeParallelGenerators",
     "Rescale", "EliminateConstraints", "Girard", "Combastel", "IntervalHull", "CORA_GIRARD",
-    "CORA_COMBASTEL",
+    "CORA_COMBASTEL", "oit_inspired_filter", "oit_cz_filter", "OITResult",
     "analysis", "observation_set", "observation_information_set", "observation_information_tower",
 ]
 
