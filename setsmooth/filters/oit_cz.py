@@ -104,13 +104,15 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
         estimates.append(Zk)
         values = engine.values(c, b, h)
         lo[k], hi[k] = _bounds(values[:2 * n], n)
-        in_lo, in_hi = _bounds(values[2 * n:], n_obar)
+        in_lo, in_hi = _bounds(values[2 * n:2 * n + 2 * n_obar], n_obar)
         # Line 9: IH(Ã_21 Z̃^o_k ⊕ B̃_ō W) = IH(Ã_21 Z̃^o_k) ⊕ IH(B̃_ō W).
         c_in = (in_lo + in_hi) / 2 + win_c
         g_in = (in_hi - in_lo) / 2 + win_r + _ulp(in_hi, in_lo)
-        if k == d:  # ĉ^ō_δ̄ and d∞(Z̃^ō_δ̄) from the certified hull of P_ō Z_δ̄
-            ob_c, ob_r = _hull(linear_map(st.P_obar, Zk), _pm(np.eye(n_obar)))
-            c_obar, d_delta = ob_c, 2.0 * float(ob_r.max())
+        if k == d:  # ĉ^ō_δ̄ and d∞(Z̃^ō_δ̄) from the certified hull of P_ō Z_δ̄ (the first window's
+            # engine carries the directions ±P_ō for this one step)
+            ob_lo, ob_hi = _bounds(values[2 * n + 2 * n_obar:], n_obar)
+            c_obar = (ob_lo + ob_hi) / 2
+            d_delta = 2.0 * float(((ob_hi - ob_lo) / 2 + _ulp(ob_hi, ob_lo)).max())
         # Line 12 (the paper's α_k), then Lines 10–11.
         a_k = 0.5 * _inf_norm(Aobar_power) * d_delta + upsilon * ell_prev + epsilon
         alpha[k] = a_k
@@ -148,7 +150,8 @@ def _detectable_parts(system, st: Structure, d: int, eye2: np.ndarray):
     dirs = np.vstack([eye2, _pm(st.A_21 @ st.P_o)])  # Ã_21 Z̃^o_k = (Ã_21 P_o) Z_k
     first = Window(system, d, st.U)                                          # P⁻¹(ℝ^{n_o} × box)
     later = Window(system, d, st.U @ _block_diag(st.P_o, np.eye(n_obar)))  # P⁻¹(P_o·IH × B_α)
-    return ((first, ParametricSupport(first.G, first.A, dirs, first.free(st.n_o))),
+    first_dirs = np.vstack([dirs, _pm(st.P_obar)])  # + the hull of P_ō Z_δ̄ (Line 11, Line 12)
+    return ((first, ParametricSupport(first.G, first.A, first_dirs, first.free(st.n_o))),
             (later, ParametricSupport(later.G, later.A, dirs, later.free(0))))
 
 
