@@ -135,7 +135,7 @@ def test_report_groups_the_rows_by_paper(figures, tmp_path):
     (tmp_path / "smoothing_fig8.json").write_text(json.dumps(fake("smoothing", "Smoothing Fig. 8")))
     report = figures("report").main(tmp_path).read_text()
     headings = sorted([(report.index("## Smoothing paper"), "smoothing"),
-                       (report.index("## stability paper"), "stability"),   # no _stability_examples.py
+                       (report.index("## Stability paper"), "stability"),   # from _stability_examples.py
                        (len(report), None)])
     assert "Reproduction of the numerical section (IV-C) of the smoothing paper" in report  # its preamble
 

@@ -33,7 +33,7 @@ def _frozen(M: np.ndarray) -> np.ndarray:
     return M
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)   # arrays: identity equality, hashable
 class ObservabilityDecomposition:
     """x̃ = P x = [x̃_o; x̃_ō] with the blocks of stability paper (17).
 

@@ -36,7 +36,7 @@ _KEEP_ENTRY_PROBABILITY = 0.8
 _MAX_TRIES = 1000
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)   # arrays: identity equality, hashable
 class RandomSystem:
     """A drawn system (A, B, C) with its observability decomposition (17).
 

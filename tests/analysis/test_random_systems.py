@@ -63,3 +63,14 @@ def test_bad_arguments_are_named():
         analysis.random_detectable_system(rng, 3, 2, 1, 1, s_max=1.0)
     with pytest.raises(ValueError, match="unit_pole_probability"):
         analysis.random_stable_matrix(rng, 3, unit_pole_probability=2.0)
+
+
+def test_systems_and_decompositions_pickle_and_hash():
+    import pickle
+
+    s = analysis.random_detectable_system(np.random.default_rng(2), 5, 3, 2, 2)
+    t = pickle.loads(pickle.dumps(s))
+    assert np.array_equal(t.A, s.A) and np.array_equal(t.decomposition.A_obar, s.decomposition.A_obar)
+    assert {s: 1, s.decomposition: 2}[s.decomposition] == 2          # identity-hashed, not array-compared
+    with pytest.raises(ValueError, match="read-only"):
+        s.decomposition.P[0, 0] = 1.0                                # immutable
