@@ -25,7 +25,7 @@ _EXPORTS = {
     "SolverError": ".solvers",
     **dict.fromkeys(["LinearSystem", "NonlinearSystem", "simulate"], ".systems"),
     **dict.fromkeys(["classical_filter", "interval_filter", "kalman_filter", "rts_smoother",
-                     "KalmanResult"], ".filters"),
+                     "KalmanResult", "oit_inspired_filter", "oit_cz_filter", "OITResult"], ".filters"),
     **dict.fromkeys(["optimal_smoother", "interval_smoother"], ".smoothers"),
     **dict.fromkeys(["trajectory_set", "filtering_map"], ".trajectories"),
     **dict.fromkeys(["LSUModel", "LSUResult", "lsu_cz_filter", "lsuo_filter", "lsup_filter",
@@ -55,7 +55,7 @@ __all__ = [
     "IntervalEstimates", "kalman_filter", "rts_smoother", "KalmanResult", "montecarlo", "paper_examples",
     "reduce", "ReductionMethod", "DropZeros", "DropDependentConstraints", "MergeParallelGenerators",
     "Rescale", "EliminateConstraints", "Girard", "Combastel", "IntervalHull", "CORA_GIRARD",
-    "CORA_COMBASTEL",
+    "CORA_COMBASTEL", "oit_inspired_filter", "oit_cz_filter", "OITResult",
     "analysis", "observation_set", "observation_information_set", "observation_information_tower",
     "JointRange", "ScalarRelatedNoiseSystem", "joint_trajectory_set", "optimal_filter",
     "optimal_joint_smoother", "augment_identical_process_noise", "sampled_optimal_filter",
@@ -86,6 +86,7 @@ if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
     from . import references
     from .filters.lsu import (LSUModel, LSUResult, lsu_cz_filter, lsu_point_estimate, lsuo_filter,
                               lsup_filter)
+    from .filters import OITResult, oit_cz_filter, oit_inspired_filter
     from .intervals import IntervalEstimates
     from .observation_information import (observation_information_set, observation_information_tower,
                                           observation_set)

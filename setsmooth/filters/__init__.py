@@ -3,6 +3,7 @@
 from .classical import classical_filter, predict, update
 from .interval import interval_filter
 from .kalman import KalmanResult, kalman_filter, rts_smoother
+from .oit import OITResult, oit_cz_filter, oit_inspired_filter
 
 __all__ = ["classical_filter", "predict", "update", "interval_filter", "kalman_filter", "rts_smoother",
-           "KalmanResult"]
+           "KalmanResult", "oit_inspired_filter", "oit_cz_filter", "OITResult"]

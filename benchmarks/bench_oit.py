@@ -1,0 +1,144 @@
+"""Stability paper Table 1 side by side, and what the OIT-CZ interval hull costs by three methods.
+
+Part 1 (the table): for n = p = m ∈ {10, 20, 30}, random observable systems, ⟦x_0⟧ = [−10, 10]ⁿ, the
+OIT-CZ SMF (δ̄ = 3) and the classical filter with ``ss.CORA_GIRARD`` / ``ss.CORA_COMBASTEL`` run on the
+same trajectories in one process (`paper_figures/stability_table1.measure`); printed: median CPU
+seconds per step, "step only" and "step + certified interval hull", the ratios, the mean hull radius.
+
+Part 2 (``--hull-methods``): the 2n support LPs of the OIT-CZ window, whose constraint matrix is the
+same every step and whose right-hand side b is new, solved per step by
+  * fresh  — ``Z.interval_hull(certified=True)`` on a new CZ (presolve, Clarabel, certificate);
+  * kept   — `ParametricSupport`: one Clarabel instance, data updates of b and the objective, the
+             weak-duality certificate (what `oit_cz_filter(hulls=True)` uses);
+  * warm   — HiGHS's dual simplex (``highspy``, a dev dependency), one kept model per direction
+             warm-started from its previous basis, certified the same way from its row duals;
+with the mean simplex pivots per warm LP.
+
+Usage: python benchmarks/bench_oit.py [--runs 3] [--steps 30] [--hull-methods]
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # before NumPy loads OpenBLAS
+
+import argparse  # noqa: E402
+import statistics  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+import setsmooth as ss  # noqa: E402
+from setsmooth import analysis  # noqa: E402
+from setsmooth.filters._window import Window  # noqa: E402
+from setsmooth.solvers.certify import certified_bound  # noqa: E402
+from setsmooth.solvers.parametric import ParametricSupport  # noqa: E402
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "paper_figures"))
+from stability_table1 import DIMENSIONS, PUBLISHED_RADIUS, PUBLISHED_TIME, measure  # noqa: E402
+
+
+def table(runs: int, steps: int) -> None:
+    print(f"Table 1: {runs} run(s) x {steps + 1} steps, CPU seconds per step (median over runs)")
+    header = f"{'n':>3} {'filter':>10} {'step':>10} {'step+hull':>10} {'radius':>8} {'paper step':>11} {'paper r':>8}"
+    print(header)
+    rng = np.random.default_rng(2024)
+    for i, n in enumerate(DIMENSIONS):
+        results = [measure(rng, n, steps) for _ in range(runs)]
+        med = {f: {key: statistics.median(r[f][key] for r in results) for key in ("step", "hull", "radius")}
+               for f in ("girard", "combastel", "oit")}
+        for f, m in med.items():
+            print(f"{n:>3} {f:>10} {m['step']:>10.2e} {m['step'] + m['hull']:>10.2e} {m['radius']:>8.2f} "
+                  f"{PUBLISHED_TIME[f][i]:>11.4f} {PUBLISHED_RADIUS[f][i]:>8.2f}")
+        steady = statistics.median(r["oit"]["step_steady"] for r in results)
+        g, o = med["girard"], med["oit"]
+        print(f"    ratios girard/OIT: step only {g['step'] / o['step']:.0f}x (steady k >= 3: "
+              f"{g['step'] / steady:.0f}x; paper {PUBLISHED_TIME['girard'][i] / PUBLISHED_TIME['oit'][i]:.0f}x), "
+              f"step + hull {(g['step'] + g['hull']) / (o['step'] + o['hull']):.2f}x, radius "
+              f"{g['radius'] / o['radius']:.2f}x (paper {PUBLISHED_RADIUS['girard'][i] / PUBLISHED_RADIUS['oit'][i]:.2f}x)")
+
+
+def hull_methods(steps: int) -> None:
+    print(f"\nInterval hull of the OIT-CZ window, {steps} steps, CPU ms per step (2n certified support LPs)")
+    try:
+        import highspy
+    except ImportError:
+        highspy = None
+        print("(highspy not installed: the warm-started simplex is skipped)")
+    for n in DIMENSIONS:
+        rng = np.random.default_rng(n)
+        drawn = analysis.random_observable_system(rng, n, n, n)
+        system = drawn.linear_system()
+        X0 = ss.Box(-10.0 * np.ones(n), 10.0 * np.ones(n))
+        _, ys = ss.simulate(system, X0, steps + 3, rng)
+        window = Window(system, 3, np.eye(n))
+        D = np.vstack([np.eye(n), -np.eye(n)])
+        data = [window.data(ys, k, np.zeros(n), np.full(n, np.inf)) for k in range(3, steps + 4)]
+        t = time.process_time()
+        fresh = [window.estimate_from(*d).support_many(D, certified=True) for d in data]
+        t_fresh = (time.process_time() - t) / len(data)
+        engine = ParametricSupport(window.G, window.A, D, window.free(n))
+        t = time.process_time()
+        kept = [engine.values(*d) for d in data]
+        t_kept = (time.process_time() - t) / len(data)
+        line = (f"n = {n}: fresh {1e3 * t_fresh:8.1f}   kept {1e3 * t_kept:8.1f} "
+                f"(max |kept - fresh| {np.max(np.abs(np.array(kept) - np.array(fresh))):.1e})")
+        if highspy is not None:
+            t_warm, pivots, warm = _warm(highspy, window, D, data, engine)
+            line += (f"   warm {1e3 * t_warm:8.1f} ({pivots:.0f} pivots/LP, "
+                     f"max |warm - fresh| {np.max(np.abs(np.array(warm) - np.array(fresh))):.1e})")
+        print(line)
+
+
+def _warm(highspy, window, D, data, engine):
+    """HiGHS dual simplex, one model per direction kept warm across steps, certified from row duals."""
+    import scipy.sparse as sp
+
+    A = sp.csc_matrix(window.A)
+    nc, ng = A.shape
+    inf = highspy.kHighsInf
+    models = []
+    c0, b0, h0 = data[0]
+    for d in D:
+        model = highspy.Highs()
+        model.setOptionValue("output_flag", False)
+        lp = highspy.HighsLp()
+        lp.num_col_, lp.num_row_ = ng, nc
+        lp.col_cost_ = -(window.G.T @ d)
+        lp.col_lower_ = np.where(np.isfinite(h0), -h0, -inf)
+        lp.col_upper_ = np.where(np.isfinite(h0), h0, inf)
+        lp.row_lower_, lp.row_upper_ = b0, b0
+        lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+        lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = A.indptr, A.indices, A.data
+        model.passModel(lp)
+        models.append(model)
+    rows = np.arange(nc, dtype=np.int32)
+    out, pivots, count = [], 0, 0
+    t = time.process_time()
+    for c, b, h in data:
+        lam = np.empty((len(D), nc))
+        for j, model in enumerate(models):
+            model.changeRowsBounds(nc, rows, b, b)
+            model.run()
+            lam[j] = -np.asarray(model.getSolution().row_dual)  # HiGHS minimizes −gᵀξ
+            pivots += model.getInfo().simplex_iteration_count
+            count += 1
+        out.append(certified_bound(D, window.G, c, A, b, h, lam, engine._free_bound(b, h), engine._ops))
+    return (time.process_time() - t) / len(data), pivots / count, out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=3)
+    parser.add_argument("--steps", type=int, default=30, help="T (k = 0..T)")
+    parser.add_argument("--hull-methods", action="store_true")
+    args = parser.parse_args()
+    table(args.runs, args.steps)
+    if args.hull_methods:
+        hull_methods(args.steps)
+
+
+if __name__ == "__main__":
+    main()

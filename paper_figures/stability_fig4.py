@@ -1,0 +1,162 @@
+"""Stability paper Fig. 4: the OIT-CZ SMF (Algorithm 3) on random observable and detectable systems.
+
+Left: observable (A, C), n = 10, p = m ∈ {5, …, 10}, δ̄ = n − rank(C) + 3. Right: detectable, n = 10,
+n_o = p = m ∈ {7, 8, 9}, δ̄ = 3, ε = 10⁻³. W = [−1, 1]^p, V = [−1, 1]^m, ⟦x_0⟧ = [−10, 10]ⁿ, the filter's
+initial condition [−10, 10]ⁿ ⊕ {c} with c uniform in [−1, 1]ⁿ (the paper's text; the authors' code
+draws c in [−10, 10]ⁿ), k = 0..100. Top: ∞-norm diameter of the certified interval hull of Z_k (2 × its
+largest half-width); bottom: the bound max_i max(|x_i − lo_i|, |x_i − hi_i|) on the ∞-norm estimation
+gap, computed on the hull. Shading: min..max over all runs and all p; line: mean; dash-dotted: one run,
+with stars where Line 5 reset the estimate. Systems from `setsmooth.analysis.random_observable_system`
+/ `random_detectable_system` (seeded; MATLAB's drss cannot be replayed, so the comparison is
+statistical).
+"""
+
+from __future__ import annotations
+
+import functools
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+import setsmooth as ss
+from setsmooth import analysis, montecarlo
+
+import _stability_examples as ex
+from _outputs import Stopwatch, cli, finish, row
+
+NAME = "stability_fig4"
+PAPER = ex.PAPER
+DEFAULT_RUNS = 2           # per setting (paper: 1000)
+PAPER_RUNS = 1000
+N, T = 10, 100
+OBSERVABLE_P = (5, 6, 7, 8, 9, 10)
+DETECTABLE_NO = (7, 8, 9)
+EPSILON = 1e-3
+HULL_TOL = 1e-6
+
+
+def trial(rng: np.random.Generator, kind: str, p: int, n: int = N, T: int = T) -> dict:
+    """One run: draw the system, simulate, filter; the hull diameters and gap bounds, k = 0..T."""
+    if kind == "observable":
+        drawn = analysis.random_observable_system(rng, n, p, p)
+        delta_bar = n - int(np.linalg.matrix_rank(drawn.C)) + 3
+    else:
+        drawn = analysis.random_detectable_system(rng, n, p, p, p)
+        delta_bar = 3
+    system = drawn.linear_system()
+    true_x0 = ss.Box(-10 * np.ones(n), 10 * np.ones(n))
+    xs, ys = ss.simulate(system, true_x0, T, rng)
+    c = rng.uniform(-1.0, 1.0, n)
+    X0 = ss.Box(c - 10.0, c + 10.0)
+    res = ss.oit_cz_filter(system, X0, ys, delta_bar=delta_bar, epsilon=EPSILON,
+                           decomposition=drawn.decomposition, hulls=True)
+    lo, hi = res.hulls
+    inside = np.all((lo - HULL_TOL <= xs) & (xs <= hi + HULL_TOL), axis=1)
+    return {"diameter": (hi - lo).max(axis=1), "gap": np.maximum(np.abs(xs - lo), np.abs(xs - hi)).max(axis=1),
+            "resets": list(res.resets), "inside": inside, "delta_bar": delta_bar,
+            "seconds": float(res.step_seconds.sum() + res.hull_seconds.sum()),
+            "max_state": float(np.abs(xs).max())}
+
+
+def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, workers: int | None = None,
+         progress: bool = True, executor=None, *, n: int = N, T: int = T, observable_p=OBSERVABLE_P,
+         detectable_no=DETECTABLE_NO) -> dict:
+    """The figure; ``n``, ``T``, ``observable_p``, ``detectable_no`` shrink it for tests."""
+    clock = Stopwatch()
+    settings = [("observable", p) for p in observable_p] + [("detectable", n_o) for n_o in detectable_no]
+    own = executor is None and runs * len(settings) > 1
+    pool = ProcessPoolExecutor(workers or 2) if own else executor
+    try:
+        results = {s: montecarlo.run(functools.partial(trial, kind=s[0], p=s[1], n=n, T=T), runs,
+                                     seed * 100 + i, executor=pool, progress=progress, workers=workers)
+                   for i, s in enumerate(settings)}
+    finally:
+        if own:
+            pool.shutdown()
+    panels = {kind: _panel([r for (k, _), rs in results.items() if k == kind for r in rs])
+              for kind in ("observable", "detectable")}
+    highlight = {kind: results[(kind, observable_p[0] if kind == "observable" else detectable_no[0])][0]
+                 for kind in panels}
+    fig = _plot(panels, highlight, runs, T)
+    rows = _rows(panels, results, T)
+    data = {
+        "figure": "Stability paper Fig. 4",
+        "rows": rows,
+        "settings": {"runs": runs, "seed": seed, "n": n, "T": T, "observable_p_m": observable_p,
+                     "detectable_n_o_p_m": detectable_no, "epsilon": EPSILON,
+                     "delta_bar": "observable n − rank(C) + 3 = 13 − p; detectable 3",
+                     "initial_condition": "[−10, 10]^n ⊕ {c}, c ~ U[−1, 1]^n (paper text)",
+                     "diameter": "∞-norm diameter of the certified interval hull (2 × largest half-width)",
+                     "gap": "max_i max(|x_i − lo_i|, |x_i − hi_i|) on the interval hull"},
+        "published": {"runs": PAPER_RUNS, "claim": "OIT-CZ SMF stable and uniformly bounded (Theorem 4)"},
+        "k": np.arange(T + 1),
+        **{f"{kind}_{key}": value for kind, panel in panels.items() for key, value in panel.items()},
+        "highlight": {kind: {"diameter": h["diameter"], "gap": h["gap"], "resets": h["resets"]}
+                      for kind, h in highlight.items()},
+    }
+    return finish(out, NAME, PAPER, fig, data, clock)
+
+
+def _panel(rs: list[dict]) -> dict:
+    diam = np.array([r["diameter"] for r in rs])
+    gap = np.array([r["gap"] for r in rs])
+    return {"diameter_min": diam.min(axis=0), "diameter_max": diam.max(axis=0), "diameter_mean": diam.mean(axis=0),
+            "gap_min": gap.min(axis=0), "gap_max": gap.max(axis=0), "gap_mean": gap.mean(axis=0)}
+
+
+def _rows(panels: dict, results: dict, T: int) -> list[dict]:
+    rows = []
+    for kind in ("observable", "detectable"):
+        rs = [r for (k, _), group in results.items() if k == kind for r in group]
+        d = panels[kind]
+        later = slice(min(20, T), T + 1)
+        outside = sum(int((~r["inside"][r["delta_bar"]:]).sum()) for r in rs) if kind == "observable" else \
+            sum(int((~r["inside"][2 * r["delta_bar"] + 10:]).sum()) for r in rs)
+        when = "k ≥ δ̄" if kind == "observable" else "k ≥ 2δ̄ + 10"
+        rows += [
+            row(f"{kind}: uniformly bounded — largest ∞-diameter over k ∈ [{later.start}, {T}], all runs",
+                "bounded (plot only)", f"{d['diameter_max'][later].max():.3g}"),
+            row(f"{kind}: mean ∞-diameter at k = {later.start} / {T}", "plot only",
+                f"{d['diameter_mean'][later.start]:.3g} / {d['diameter_mean'][T]:.3g}"),
+            row(f"{kind}: mean / largest gap bound for k ∈ [{later.start}, {T}]", "bounded (plot only)",
+                f"{d['gap_mean'][later].mean():.3g} / {d['gap_max'][later].max():.3g}"),
+            row(f"{kind}: true state outside the hull for {when} (steps, all runs)", "0 (Theorem 4)", outside),
+            row(f"{kind}: runs with a Line-5 reset / resets per run", "stars in the highlighted run",
+                f"{sum(bool(r['resets']) for r in rs)} of {len(rs)} / {np.mean([len(r['resets']) for r in rs]):.2f}"),
+            row(f"{kind}: filter + hulls per run (s)", "not stated", f"{np.median([r['seconds'] for r in rs]):.2f}"),
+        ]
+    return rows
+
+
+def _plot(panels: dict, highlight: dict, runs: int, T: int):
+    k = np.arange(T + 1)
+    fig, axes = plt.subplots(2, 2, figsize=(12, 7.5), sharex=True)
+    titles = {"observable": f"observable, p = m ∈ {{5..10}}, {runs} runs each",
+              "detectable": f"detectable, n_o = p = m ∈ {{7, 8, 9}}, {runs} runs each"}
+    for col, kind in enumerate(("observable", "detectable")):
+        d, h = panels[kind], highlight[kind]
+        for row_i, key, label in ((0, "diameter", r"$d_\infty(\overline{\mathrm{IH}}(\mathcal{Z}_k))$"),
+                                  (1, "gap", r"gap bound on $\overline{\mathrm{IH}}(\mathcal{Z}_k)$")):
+            ax = axes[row_i, col]
+            ax.fill_between(k, d[f"{key}_min"], d[f"{key}_max"], color="tab:blue", alpha=0.25, label="min–max")
+            ax.plot(k, d[f"{key}_mean"], color="tab:blue", label="mean")
+            ax.plot(k, h[key], color="gold", linestyle="-.", label="one run")
+            if h["resets"]:
+                ax.plot(h["resets"], np.asarray(h[key])[h["resets"]], "*", color="purple", markersize=10,
+                        label="Line 5 reset")
+            ax.set_yscale("log")
+            ax.set(ylabel=label)
+            ax.grid(alpha=0.3)
+            if row_i == 0:
+                ax.set_title(titles[kind])
+            else:
+                ax.set_xlabel("$k$")
+            ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+if __name__ == "__main__":
+    cli(main, DEFAULT_RUNS, __doc__.splitlines()[0])

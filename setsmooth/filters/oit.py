@@ -1,0 +1,254 @@
+"""OIT-inspired filtering (stability paper Algorithm 2) and the OIT-CZ SMF (Algorithm 3).
+
+Both are stable with respect to the initial condition (Theorems 3 and 4): the classical filter
+(Algorithm 1) runs while k is small, an empty estimate is reset from a box in the observable
+coordinates (Line 5), and from then on the estimate forgets the initial condition's observable part.
+
+Line 5 (θ-doubling). θ starts at 1 and doubles until the estimate is non-empty, each verdict one
+emptiness program (`ConvexSet.is_empty`, decided against ``EMPTINESS_TOL``).
+
+Lemma 1 (θ̄_k). For k ≥ k_* the filter started from a box B_θ in the observable coordinates stops
+changing once θ ≥ θ̄_k. With at least μ_o measurements in the window the observable part of the
+window's start is bounded by the data alone, so for θ beyond that bound the box constraint is inactive
+and the set *equals* the one started from θ = ∞ (every coordinate, not only P_o's): θ = ∞ (an
+unbounded factor, Definition 7) is exactly Lemma 1's limit, with no tolerance to decide. Both filters
+use it (Algorithm 2 Line 7 and Algorithm 3 Line 8 for δ̄ ≤ k < 2δ̄).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .._validation import as_measurements
+from ..sets.algebra import cartesian_product, linear_map
+from ..sets.box import Box
+from ..sets.base import ConvexSet
+from ..sets.reals import Reals
+from ._oit_support import Structure, structure, upsilon_inf
+from .classical import _check_state_set, _predict, _update
+
+__all__ = ["oit_inspired_filter", "oit_cz_filter", "OITResult"]
+
+#: Line 5 doubles θ at most this many times (θ ≤ 2⁶⁰) before declaring the data inconsistent.
+MAX_DOUBLINGS = 60
+
+
+@dataclass(frozen=True)
+class OITResult:
+    """What `oit_cz_filter` returns.
+
+    Attributes
+    ----------
+    estimates : list of ConstrainedZonotope
+        Z_k for k = 0..T (extended CZs; from k = δ̄ on they all share one constraint matrix per
+        window prior, see `setsmooth.filters._window`).
+    resets : list of int
+        The steps k < δ̄ at which Z_k was empty and Line 5 reset it.
+    thetas : dict
+        θ used by each reset (k -> θ).
+    delta_bar : int
+    hulls : tuple of ndarray or None
+        (lo, hi), shape (T+1, n): certified interval hulls of the estimates, when requested (and always
+        computed for systems that are not observable, whose Lines 8–12 need them).
+    alpha : ndarray, shape (T+1,)
+        α_k of Line 12 for k ≥ δ̄ (NaN before, and for observable systems).
+    c_obar : ndarray, shape (T+1, n − n_o)
+        ĉ^ō_k of Line 11 for k ≥ δ̄ (NaN before): T̂^ō_k = B_{α_k}[ĉ^ō_k] in the coordinates x̃ = Px.
+    step_seconds, hull_seconds : ndarray, shape (T+1,)
+        CPU time (this process) of each step of the filter, and of the interval hull taken for ``hulls=True``
+        after it (zero otherwise). For systems that are not observable every hull the algorithm
+        needs is step time.
+    """
+
+    estimates: list
+    resets: list
+    thetas: dict
+    delta_bar: int
+    hulls: tuple | None = None
+    alpha: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    c_obar: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    step_seconds: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    hull_seconds: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+
+def oit_inspired_filter(system, X0: ConvexSet, ys: Any, *, delta: int | None = None,
+                        decomposition=None) -> list[ConvexSet]:
+    """Stability paper Algorithm 2 (OIT-inspired filtering) with exact sets of any representation.
+
+    For k < k_s (k_s = ``delta``) the classical filter (Algorithm 1) from X0, where an empty estimate is
+    reset by Line 5: F_{k,0}(P⁻¹(B_θ[0] × ⟦x̂_0^ō⟧)) with θ = 1, 2, 4, … until it is non-empty. At
+    k = k_s, Line 7 with Lemma 1's θ̄_k = ∞ (exact, see the module docstring): F_{k_s,0}(P⁻¹(ℝ^{n_o} ×
+    ⟦x̂_0^ō⟧)); afterwards Line 7 recursively, F_{k,0} = f_k ∘ F_{k−1,0} (the classical step).
+
+    Parameters
+    ----------
+    system : LinearSystem
+        Time-invariant A and C (the decomposition is of (A, C)).
+    X0 : ConvexSet
+        The initial condition ⟦x̂_0⟧ (bounded).
+    ys : array_like, shape (T+1, m)
+    delta : int, optional
+        The switching time k_s ≥ k_* = max{μ_o − 1 + n_λ0, 1} of Lemma 1; default k_*.
+    decomposition : optional
+        An observability decomposition (`setsmooth.analysis.observability_decomposition`) to use
+        instead of computing one (e.g. MATLAB's P of the paper's Fig. 3).
+
+    Returns
+    -------
+    list of ConvexSet
+        The estimates ⟦x̂_k | y_{0:k}⟧, k = 0..T.
+
+    Raises
+    ------
+    ValueError
+        If ``delta`` < k_*, the system is time varying, or no θ ≤ 2⁶⁰ gives a non-empty reset.
+    """
+    ys = as_measurements(ys, system.m)
+    _check_state_set(X0, "X0", system.n)
+    st = _structure(system, decomposition)
+    k_s = st.k_star if delta is None else _check_int(delta, "delta", st.k_star)
+    T = ys.shape[0] - 1
+    X0_obar = linear_map(st.P_obar, X0) if not st.observable else None
+    estimates: list[ConvexSet] = []
+    for k in range(T + 1):
+        if k < k_s:
+            prior = X0 if k == 0 else _predict(system, k - 1, estimates[-1])
+            Z = _update(system, k, prior, ys[k])
+            if Z.is_empty():
+                Z = _reset(system, ys, k, st, X0_obar)[0]
+        elif k == k_s:
+            Z = _run(system, ys, 0, k, _prior_from(st, Reals(st.n_o), X0_obar))
+        else:
+            Z = _update(system, k, _predict(system, k - 1, estimates[-1]), ys[k])
+        estimates.append(Z)
+    return estimates
+
+
+def oit_cz_filter(system, X0: ConvexSet, ys: Any, *, delta_bar: int | None = None,
+                  epsilon: float = 1e-3, decomposition=None, hulls: bool = False) -> OITResult:
+    """Stability paper Algorithm 3: the OIT-inspired constrained-zonotopic SMF (OIT-CZ SMF).
+
+    Lines 2–6 (k < δ̄): the exact CZ filter (20)–(21) from X0, reset by Line 5 when empty (θ-doubling);
+    Line 6 keeps the interval hull of the unobservable part of each prior. Lines 7–12 (k ≥ δ̄): the
+    window Z_k = F_{k,k−δ̄}(P⁻¹(T̂^o × T̂^ō)) of (22)–(23), with T̂^o = ℝ^{n_o} for k < 2δ̄ (Lemma 1's θ̄
+    = ∞) and P_o·IH(Z_{k−δ̄}) afterwards (footnote 19: the posterior's hull in place of the prior's),
+    and T̂^ō the box of Line 6, then B_{α_k}[ĉ^ō_k] of Lines 9–12 with the paper's
+    α_k = ½‖Ã_ō^{k−δ̄}‖∞ d∞(Z̃^ō_δ̄) + Υ∞ ℓ_{k−1} + ε.
+    For observable (A, C) the window prior is ℝⁿ (T̂^o = ℝⁿ, nothing else remains): Z_k =
+    F_{k,k−δ̄}(ℝⁿ), whose constraint matrix is the same at every step and only b changes.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        Time-invariant A, B, C, D; W and V with CZ forms. A known input term u is allowed.
+    X0 : ConvexSet
+        Bounded initial condition with a CZ form.
+    ys : array_like, shape (T+1, m)
+    delta_bar : int, optional
+        δ̄ ≥ k_* = max{μ_o − 1 + n_λ0, 1}; default n_o − rank(C̃_o) + 3 (the paper's runs), raised to
+        k_* if smaller.
+    epsilon : float
+        ε > 0 of Line 12 (unused for observable systems).
+    decomposition : optional
+        An observability decomposition to use instead of computing one.
+    hulls : bool
+        Also return certified interval hulls of every estimate (``result.hulls``).
+
+    Returns
+    -------
+    OITResult
+
+    Raises
+    ------
+    ValueError
+        On a time-varying system, sets without CZ form, δ̄ < k_*, ε ≤ 0, an undetectable (A, C), or
+        data no θ ≤ 2⁶⁰ makes consistent.
+
+    Examples
+    --------
+    >>> import numpy as np, setsmooth as ss
+    >>> box = ss.Box([-1.0], [1.0])
+    >>> system = ss.LinearSystem([[1.0, 1.0], [0.0, 1.0]], [[0.5], [1.0]], [[1.0, 0.0]], [[1.0]],
+    ...                          W=box, V=box)
+    >>> xs, ys = ss.simulate(system, ss.Box([1, 1], [3, 3]), 8, np.random.default_rng(0))
+    >>> res = ss.oit_cz_filter(system, ss.Box([-1, -1], [1, 1]), ys, delta_bar=2)
+    >>> len(res.estimates), all(Z.contains(x) for Z, x in zip(res.estimates[2:], xs[2:]))
+    (9, True)
+    """
+    from .oit_cz import run_oit_cz
+
+    ys = as_measurements(ys, system.m)
+    _check_state_set(X0, "X0", system.n)
+    for name, S in (("X0", X0), ("system.W", system.W), ("system.V", system.V)):
+        if S._flat_cz is None:
+            raise ValueError(f"{name} must have a constrained-zonotope form for the OIT-CZ SMF, "
+                             f"got {type(S).__name__}")
+    st = _structure(system, decomposition)
+    default = st.n_o - int(np.linalg.matrix_rank(st.C_o)) + 3 if st.n_o else 1
+    delta_bar = max(default, st.k_star) if delta_bar is None else _check_int(delta_bar, "delta_bar",
+                                                                             st.k_star)
+    if isinstance(epsilon, bool) or not np.isfinite(epsilon) or not epsilon > 0:
+        raise ValueError(f"epsilon must be a positive finite number, got {epsilon!r}")
+    if not st.observable and max(abs(np.linalg.eigvals(st.A_obar))) >= 1:
+        raise ValueError("(A, C) is not detectable: the unobservable part has an eigenvalue of modulus "
+                         ">= 1, and Algorithm 3 needs a detectable pair")
+    ups = 0.0 if st.observable else upsilon_inf(st.A_obar)
+    return run_oit_cz(system, X0.to_constrained_zonotope(), ys, st, delta_bar, float(epsilon), ups,
+                      hulls)
+
+
+# -- shared pieces -------------------------------------------------------------------------------------
+def _structure(system, decomposition) -> Structure:
+    if not all(M.is_constant for M in (system.A, system.B, system.C, system.D)):
+        raise ValueError("the OIT filters need a time-invariant system (constant A, B, C, D)")
+    return structure(system.A(0), system.C(0), decomposition)
+
+
+def _check_int(value: Any, name: str, lowest: int) -> int:
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an integer, got {value!r}")
+    if value < lowest:
+        raise ValueError(f"{name} must be >= k_* = max(mu_o - 1 + n_lambda0, 1) = {lowest} "
+                         f"(Lemma 1), got {value}")
+    return int(value)
+
+
+def _prior_from(st: Structure, T_o: ConvexSet, T_obar: ConvexSet | None) -> ConvexSet:
+    """P⁻¹(T_o × T_ō) (U = P⁻¹); T_o alone for observable systems."""
+    if st.observable:
+        return linear_map(st.U, T_o)
+    return linear_map(st.U, cartesian_product(T_o, T_obar))
+
+
+def _run(system, ys: np.ndarray, i: int, k: int, prior: ConvexSet) -> ConvexSet:
+    """F_{k,i}(prior) by the classical recursion (stability (7)), exact in any representation."""
+    return _run_with_prior(system, ys, i, k, prior)[0]
+
+
+def _run_with_prior(system, ys: np.ndarray, i: int, k: int, prior: ConvexSet):
+    """(F_{k,i}(prior), the prior at k it was updated from)."""
+    Z = _update(system, i, prior, ys[i])
+    for j in range(i + 1, k + 1):
+        prior = _predict(system, j - 1, Z)
+        Z = _update(system, j, prior, ys[j])
+    return Z, prior
+
+
+def _reset(system, ys: np.ndarray, k: int, st: Structure, X0_obar):
+    """Line 5: F_{k,0}(P⁻¹(B_θ[0] × ⟦x̂_0^ō⟧)) for θ = 1, 2, 4, … until non-empty.
+
+    Returns (Z_k, the prior at k it came from, θ).
+    """
+    theta = 1.0
+    for _ in range(MAX_DOUBLINGS + 1):
+        box = Box(np.full(st.n_o, -theta), np.full(st.n_o, theta))
+        Z, prior = _run_with_prior(system, ys, 0, k, _prior_from(st, box, X0_obar))
+        if not Z.is_empty():
+            return Z, prior, theta
+        theta *= 2.0
+    raise ValueError(f"Line 5: no box of half-width <= 2^{MAX_DOUBLINGS} in the observable coordinates "
+                     f"gives a non-empty estimate at k = {k}; the measurements contradict the model")
+
