@@ -244,3 +244,34 @@ def ordering(values: np.ndarray, names=PAPER_ESTIMATORS) -> str:
     """Estimators sorted by a metric, best first: 'LSUCZ-1 < LSUP < ...'."""
     order = np.argsort(values)
     return " < ".join(names[i] for i in order)
+
+
+def error_curve_main(name: str, metric: str, label: str, published: dict, figure: int, table: int,
+                     runs: int, seed: int, out: Path | None, workers: int | None, progress: bool,
+                     executor, **experiment_options) -> dict:
+    """Figs. 1 and 2: one error metric against K for every filter, the paper's table values dashed.
+
+    ``metric`` is ``'rmse'`` or ``'mae'``; ``published`` the paper's table of it (Table ``table``).
+    """
+    from _outputs import Stopwatch, finish, row
+
+    clock = Stopwatch()
+    exp = experiment(runs, seed, out, workers, progress, executor, **experiment_options)
+    K = exp["settings"]["K"]
+    mean, se = mean_se(exp["metrics"][..., METRICS.index(metric)] * 1e3)
+    idx = [ESTIMATORS.index(e) for e in PAPER_ESTIMATORS]
+    rows = []
+    for i, k in enumerate(K):
+        pub = published.get(k)
+        rows.append(row(f"{label}·10³ at K = {k:g}, best → worst", ordering(np.array(pub, dtype=float))
+                        if pub and None not in pub else "all < 1e-3",
+                        ordering(mean[i, idx]) + f" (centroid {mean[i, ESTIMATORS.index('LSUCZ-c')]:.3g}"
+                        f" vs LSUCZ-1 {mean[i, 0]:.3g}; LSUP kept shape "
+                        f"{mean[i, ESTIMATORS.index('LSUP-kept')]:.3g} vs paper LSUP "
+                        f"{pub[3] if pub and pub[3] is not None else '< 1e-3'})"))
+    title = f"Fig. {figure}: {label} of the state estimates ({exp['settings']['runs']} runs)"
+    fig = curve_figure(exp, metric, published, f"{label}·10³", title)
+    data = {"figure": f"LSU paper Fig. {figure}", "rows": rows, "settings": common_settings(exp),
+            "published": {"runs": PAPER_RUNS, "values": published, "table": table},
+            "K": K, "estimators": ESTIMATORS, "mean": mean, "se": se}
+    return finish(out, name, PAPER, fig, data, clock)

@@ -55,8 +55,8 @@ class ParametricSupport:
     >>> from setsmooth.solvers.parametric import ParametricSupport
     >>> G, A = np.eye(2), np.array([[1.0, 1.0]])
     >>> engine = ParametricSupport(G, A, np.vstack([np.eye(2), -np.eye(2)]), np.zeros(2, bool))
-    >>> np.round(engine.values(np.zeros(2), np.array([1.0]), np.ones(2)), 6).tolist()
-    [1.0, 1.0, -0.0, -0.0]
+    >>> (np.round(engine.values(np.zeros(2), np.array([1.0]), np.ones(2)), 6) + 0.0).tolist()   # no -0.0
+    [1.0, 1.0, 0.0, 0.0]
     """
 
     def __init__(self, G: np.ndarray, A: np.ndarray, D: np.ndarray, free: np.ndarray):
