@@ -80,3 +80,14 @@ def gamma(k: int) -> float:
     """Higham's γ_k = k·u / (1 − k·u): relative error bound of a k-term floating-point dot product."""
     ku = k * UNIT_ROUNDOFF
     return ku / (1.0 - ku)
+
+#: A-posteriori check of every fast-path support value (`solvers.cz_program`): the certified
+#: weak-duality bound U and the solver's primal value L of the same solve bracket the exact support,
+#: so U − L is a proven bound on the error of both. It must be below this fraction of the set's width
+#: along the direction (L(d) + L(−d), when −d is queried too, as interval hulls do), else the
+#: direction is solved again by the simplex method. A tenth of the accuracy the estimators promise.
+SUPPORT_GAP_TOL = 1e-7
+
+#: Absolute floor of that check, relative to the magnitude |U| + |L| of the values: the rounding
+#: level of the certificate's own sums (some thousand ulps), below which no bound can go.
+SUPPORT_GAP_FLOOR = 2.0 ** -40
