@@ -199,23 +199,38 @@ def main(argv=None) -> None:
     ap.add_argument("--n-range", type=int, nargs=2, default=(2, 6), metavar=("MIN", "MAX"),
                     help="state-dimension range of the random systems (issue 7: 2 6)")
     ap.add_argument("--no-concurrency", action="store_true")
+    ap.add_argument("--time-limit", type=float, default=None, metavar="SECONDS",
+                    help="stop starting tasks after this long and report the tasks finished (the "
+                         "title says how many systems that is)")
     args = ap.parse_args(argv)
 
     t0 = time.perf_counter()
     case_results, oracle_failed, witnesses, rescaled, long_runs = [], [], [], [], []
+    systems_done = 0
     with ProcessPoolExecutor(max_workers=args.workers) as pool:
         futures = {}
+        # The cheap rescaling tasks first, then the systems in index order: a run stopped by the
+        # time limit covers a prefix of the systems (every kind and noise, see base_case).
+        for i in range(args.rescaled):
+            futures[pool.submit(rescale_task, args.seed, args.rescaled, i)] = "rescale"
         for i in range(args.systems):
             futures[pool.submit(system_task, args.seed, i, i < args.witness, tuple(args.T_range),
                                 tuple(args.n_range))] = "system"
-        for i in range(args.rescaled):
-            futures[pool.submit(rescale_task, args.seed, args.rescaled, i)] = "rescale"
         for s in range(args.long_horizon):
             futures[pool.submit(long_horizon_task, s, args.horizon)] = "long"
+        stopped = False
         for fut in tqdm(as_completed(futures), total=len(futures), desc="reliability", unit="task"):
+            if fut.cancelled():
+                continue
+            if (not stopped and args.time_limit is not None
+                    and time.perf_counter() - t0 > args.time_limit):
+                stopped = True
+                for other in futures:
+                    other.cancel()  # the ones not started; running ones finish and are counted
             kind = futures[fut]
             out = fut.result()
             if kind == "system":
+                systems_done += 1
                 results, w = out
                 for r in results:
                     (oracle_failed if isinstance(r, tuple) else case_results).append(r)
@@ -227,7 +242,10 @@ def main(argv=None) -> None:
                 (oracle_failed if isinstance(out, tuple) else long_runs).append(out)
     elapsed = time.perf_counter() - t0
 
-    print(f"\n## setsmooth reliability: seed {args.seed}, {args.systems} systems (T = {args.T_range[0]}.."
+    if systems_done < args.systems:
+        print(f"\nTime limit of {args.time_limit:.0f} s reached: {systems_done} of {args.systems} "
+              "systems finished; the tables count those.")
+    print(f"\n## setsmooth reliability: seed {args.seed}, {systems_done} systems (T = {args.T_range[0]}.."
           f"{args.T_range[1]}, n = {args.n_range[0]}..{args.n_range[1]}) × {len(REGIMES)} regimes × "
           f"{len(compare.ESTIMATORS)} estimators ({elapsed:.0f} s on {args.workers} workers)\n")
     print(system_table(case_results, "By regime (runs = systems × filter/recursion/trajectory)",

@@ -92,54 +92,56 @@ class CZProgram:
         SolverError
             When no fallback settles a program, or (``certified``) no sound finite bound exists.
         """
-        values, points, xis, lams = self._solve(D, certified is True, True)
-        values, points, bounds = self._verified(D, values, points, lams, certified is True)
+        solved = self._solve(D, certified is True, True)
+        (values, points, _, _), bounds = self._verified(D, solved, certified is True)
         if certified is False or bounds is None:
             return values, points
         return bounds, points
 
-    def _verified(self, D: np.ndarray, values: np.ndarray, points: np.ndarray, lams: np.ndarray,
-                  must_certify: bool):
-        """The a-posteriori check of every value: (values, points, certified bounds or None).
+    def _verified(self, D: np.ndarray, solved: tuple, must_certify: bool):
+        """The a-posteriori check of every value of ``solved`` = (values, points, factors,
+        multipliers) from `_solve`: returns the checked quadruple and the certified bounds (or None).
 
         The certified bound U (weak duality, any λ) and the solver's value L (of a point feasible to
         the solver's tolerance) bracket the exact support, so U − L bounds the error of both. Where
         it exceeds ``SUPPORT_GAP_TOL`` of the set's width along d (`_gap_tolerance`), the direction
         is solved again by the simplex method (`FactorConstraints.maximize` with ``escalate``),
-        and the better answer kept: the smaller U (both are bounds) and the L of the tighter
+        and the better answer kept: the smaller U (both are bounds) and the solution of the tighter
         bracket. A value is never returned above its bound. Without a sound bound (free factors
         neither determined nor cancelled exactly) the solver's values are returned unchecked.
         """
+        values, points, xis, lams = solved
         try:
             bounds = self._certify(D, values, lams)
         except SolverError as err:
             if must_certify or err.status != "UncertifiableReducedCost":
                 raise
-            return values, points, None
+            return solved, None
         finite = np.isfinite(values) & np.isfinite(bounds)
         with np.errstate(invalid="ignore"):
             loose = finite & ~(bounds - values <= self._gap_tolerance(D, values, bounds))
         rows = np.flatnonzero(loose)
         if rows.size:
-            values, points, bounds = values.copy(), points.copy(), bounds.copy()
-            v2, p2, _, l2 = self._solve(D[rows], must_certify, True, escalate=True)
+            values, points, xis, lams, bounds = (a.copy() for a in (values, points, xis, lams,
+                                                                    bounds))
+            v2, p2, x2, l2 = self._solve(D[rows], must_certify, True, escalate=True)
             ok = np.isfinite(v2)
+            b2 = None
             if ok.any():
                 try:
                     b2 = self._certify(D[rows][ok], v2[ok], l2[ok])
                 except SolverError as err:
                     if err.status != "UncertifiableReducedCost":
                         raise
-                    b2 = None
-                if b2 is not None:
-                    r = rows[ok]
-                    better = (b2 - v2[ok]) < (bounds[r] - values[r])
-                    values[r[better]], points[r[better]] = v2[ok][better], p2[ok][better]
-                    bounds[r] = np.minimum(bounds[r], b2)
-            values = np.where(finite, np.minimum(values, bounds), values)
-        else:
-            values = np.where(finite, np.minimum(values, bounds), values)
-        return values, points, bounds
+            if b2 is not None:
+                r = rows[ok]
+                better = (b2 - v2[ok]) < (bounds[r] - values[r])
+                take = r[better]
+                values[take], points[take] = v2[ok][better], p2[ok][better]
+                xis[take], lams[take] = x2[ok][better], l2[ok][better]
+                bounds[r] = np.minimum(bounds[r], b2)
+        values = np.where(finite, np.minimum(values, bounds), values)
+        return (values, points, xis, lams), bounds
 
     @staticmethod
     def _gap_tolerance(D: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
@@ -156,8 +158,9 @@ class CZProgram:
         return tol.SUPPORT_GAP_TOL * scale + tol.SUPPORT_GAP_FLOOR * magnitude
 
     def solutions(self, D: np.ndarray) -> list[SupportSolution]:
-        """`SupportSolution` (value, point, factors, multipliers) for every row of ``D``."""
-        values, points, xis, lams = self._solve(D)
+        """`SupportSolution` (value, point, factors, multipliers) for every row of ``D``, each
+        value checked against its certified bound like `support`'s."""
+        (values, points, xis, lams), _ = self._verified(D, self._solve(D, False, True), False)
         return [SupportSolution(float(v), p, x, m) for v, p, x, m in zip(values, points, xis, lams)]
 
     def _solve(self, D: np.ndarray, certified: bool = False, tight: bool = False,
