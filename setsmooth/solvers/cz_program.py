@@ -8,6 +8,12 @@ factor set for each direction d (one LP per direction on the factor set's kept, 
 ``certified=True`` returns instead the weak-duality bound of `certify.certified_bound`, an upper bound
 on h_Z(d) in floating point whatever the solver did (free factors: multipliers corrected by least
 squares, residual charged against a rigorous bound on the free factors, else `SolverError`).
+
+Every answer, certified or not, is checked a posteriori (`CZProgram._verified`): the bound U and the
+solver's value L of the same solve bracket h_Z(d), so U − L bounds the error of both; a bracket wider
+than ``SUPPORT_GAP_TOL`` of the set's width along d is solved again by the simplex method. Interior-
+point answers that stop early (a loose dual on badly scaled free factors) are caught this way rather
+than returned as silently wrong numbers.
 """
 
 from __future__ import annotations
