@@ -188,6 +188,8 @@ def concurrency_table() -> str:
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--systems", type=int, default=250)
+    ap.add_argument("--start", type=int, default=0, help="index of the first system (to split a "
+                    "run over several invocations: systems start .. start + systems − 1)")
     ap.add_argument("--seed", type=int, default=2026)
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--rescaled", type=int, default=60)
@@ -213,7 +215,7 @@ def main(argv=None) -> None:
         # time limit covers a prefix of the systems (every kind and noise, see base_case).
         for i in range(args.rescaled):
             futures[pool.submit(rescale_task, args.seed, args.rescaled, i)] = "rescale"
-        for i in range(args.systems):
+        for i in range(args.start, args.start + args.systems):
             futures[pool.submit(system_task, args.seed, i, i < args.witness, tuple(args.T_range),
                                 tuple(args.n_range))] = "system"
         for s in range(args.long_horizon):
@@ -245,7 +247,8 @@ def main(argv=None) -> None:
     if systems_done < args.systems:
         print(f"\nTime limit of {args.time_limit:.0f} s reached: {systems_done} of {args.systems} "
               "systems finished; the tables count those.")
-    print(f"\n## setsmooth reliability: seed {args.seed}, {systems_done} systems (T = {args.T_range[0]}.."
+    first = f" from index {args.start}" if args.start else ""
+    print(f"\n## setsmooth reliability: seed {args.seed}, {systems_done} systems{first} (T = {args.T_range[0]}.."
           f"{args.T_range[1]}, n = {args.n_range[0]}..{args.n_range[1]}) × {len(REGIMES)} regimes × "
           f"{len(compare.ESTIMATORS)} estimators ({elapsed:.0f} s on {args.workers} workers)\n")
     print(system_table(case_results, "By regime (runs = systems × filter/recursion/trajectory)",

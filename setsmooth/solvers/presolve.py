@@ -256,7 +256,10 @@ def project_free(pre: Presolved, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     from scipy.sparse.linalg import lsqr
 
     free = ~pre.bounded
-    lam0 = lsqr(sp.csr_matrix(pre.A[:, free].T), -q[free], atol=1e-15, btol=1e-15)[0]
+    # lsqr's default of 2·m iterations left residuals of 1e-5 on trajectory-sized programs, which
+    # the free factors' values multiply into the objective: a wrong support value.
+    lam0 = lsqr(sp.csr_matrix(pre.A[:, free].T), -q[free], atol=1e-15, btol=1e-15,
+                iter_lim=10 * pre.A.shape[0] + 50)[0]
     shifted = q + pre.A.T @ lam0
     shifted[free] = 0.0
     return shifted, lam0
