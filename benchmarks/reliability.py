@@ -2,6 +2,11 @@
 
     python benchmarks/reliability.py [--systems N] [--seed S] [--workers W] [--rescaled R]
                                      [--witness K] [--long-horizon L] [--horizon T]
+                                     [--T-range MIN MAX] [--n-range MIN MAX] [--start I]
+                                     [--time-limit SECONDS]
+
+On a shared machine: ``--start`` splits the systems over several invocations (their counts add up),
+``--time-limit`` stops starting tasks after that long and reports the systems that finished.
 
 * N seeded random systems (`tests/reliability/random_systems.py`: five kinds, n = 2..6, p, m = 1..3,
   box and CZ noises, T = 10..40), each in the four regimes (noise scale 1, 1e-6, 1e3; state offset
