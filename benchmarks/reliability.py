@@ -2,6 +2,11 @@
 
     python benchmarks/reliability.py [--systems N] [--seed S] [--workers W] [--rescaled R]
                                      [--witness K] [--long-horizon L] [--horizon T]
+                                     [--T-range MIN MAX] [--n-range MIN MAX] [--start I]
+                                     [--time-limit SECONDS]
+
+On a shared machine: ``--start`` splits the systems over several invocations (their counts add up),
+``--time-limit`` stops starting tasks after that long and reports the systems that finished.
 
 * N seeded random systems (`tests/reliability/random_systems.py`: five kinds, n = 2..6, p, m = 1..3,
   box and CZ noises, T = 10..40), each in the four regimes (noise scale 1, 1e-6, 1e3; state offset
@@ -188,6 +193,8 @@ def concurrency_table() -> str:
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--systems", type=int, default=250)
+    ap.add_argument("--start", type=int, default=0, help="index of the first system (to split a "
+                    "run over several invocations: systems start .. start + systems − 1)")
     ap.add_argument("--seed", type=int, default=2026)
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--rescaled", type=int, default=60)
@@ -199,23 +206,38 @@ def main(argv=None) -> None:
     ap.add_argument("--n-range", type=int, nargs=2, default=(2, 6), metavar=("MIN", "MAX"),
                     help="state-dimension range of the random systems (issue 7: 2 6)")
     ap.add_argument("--no-concurrency", action="store_true")
+    ap.add_argument("--time-limit", type=float, default=None, metavar="SECONDS",
+                    help="stop starting tasks after this long and report the tasks finished (the "
+                         "title says how many systems that is)")
     args = ap.parse_args(argv)
 
     t0 = time.perf_counter()
     case_results, oracle_failed, witnesses, rescaled, long_runs = [], [], [], [], []
+    systems_done = 0
     with ProcessPoolExecutor(max_workers=args.workers) as pool:
         futures = {}
-        for i in range(args.systems):
-            futures[pool.submit(system_task, args.seed, i, i < args.witness, tuple(args.T_range),
-                                tuple(args.n_range))] = "system"
+        # The cheap rescaling tasks first, then the systems in index order: a run stopped by the
+        # time limit covers a prefix of the systems (every kind and noise, see base_case).
         for i in range(args.rescaled):
             futures[pool.submit(rescale_task, args.seed, args.rescaled, i)] = "rescale"
+        for i in range(args.start, args.start + args.systems):
+            futures[pool.submit(system_task, args.seed, i, i < args.witness, tuple(args.T_range),
+                                tuple(args.n_range))] = "system"
         for s in range(args.long_horizon):
             futures[pool.submit(long_horizon_task, s, args.horizon)] = "long"
+        stopped = False
         for fut in tqdm(as_completed(futures), total=len(futures), desc="reliability", unit="task"):
+            if fut.cancelled():
+                continue
+            if (not stopped and args.time_limit is not None
+                    and time.perf_counter() - t0 > args.time_limit):
+                stopped = True
+                for other in futures:
+                    other.cancel()  # the ones not started; running ones finish and are counted
             kind = futures[fut]
             out = fut.result()
             if kind == "system":
+                systems_done += 1
                 results, w = out
                 for r in results:
                     (oracle_failed if isinstance(r, tuple) else case_results).append(r)
@@ -227,7 +249,11 @@ def main(argv=None) -> None:
                 (oracle_failed if isinstance(out, tuple) else long_runs).append(out)
     elapsed = time.perf_counter() - t0
 
-    print(f"\n## setsmooth reliability: seed {args.seed}, {args.systems} systems (T = {args.T_range[0]}.."
+    if systems_done < args.systems:
+        print(f"\nTime limit of {args.time_limit:.0f} s reached: {systems_done} of {args.systems} "
+              "systems finished; the tables count those.")
+    first = f" from index {args.start}" if args.start else ""
+    print(f"\n## setsmooth reliability: seed {args.seed}, {systems_done} systems{first} (T = {args.T_range[0]}.."
           f"{args.T_range[1]}, n = {args.n_range[0]}..{args.n_range[1]}) × {len(REGIMES)} regimes × "
           f"{len(compare.ESTIMATORS)} estimators ({elapsed:.0f} s on {args.workers} workers)\n")
     print(system_table(case_results, "By regime (runs = systems × filter/recursion/trajectory)",

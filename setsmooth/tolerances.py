@@ -102,3 +102,13 @@ MAGNITUDE_TOL = 1e-13
 #: Relative slack with which `sets.vertices.cz_vertices` accepts a basic solution whose basic factors
 #: exceed their bounds by rounding (the point is then clipped to the bounds).
 VERTEX_FEASIBILITY_TOL = 1e-9
+#: A-posteriori check of every fast-path support value (`solvers.cz_program`): the certified
+#: weak-duality bound U and the solver's primal value L of the same solve bracket the exact support,
+#: so U − L is a proven bound on the error of both. It must be below this fraction of the set's width
+#: along the direction (L(d) + L(−d), when −d is queried too, as interval hulls do), else the
+#: direction is solved again by the simplex method. A tenth of the accuracy the estimators promise.
+SUPPORT_GAP_TOL = 1e-7
+
+#: Absolute floor of that check, relative to the magnitude |U| + |L| of the values: the rounding
+#: level of the certificate's own sums (some thousand ulps), below which no bound can go.
+SUPPORT_GAP_FLOOR = 2.0 ** -40

@@ -8,6 +8,12 @@ factor set for each direction d (one LP per direction on the factor set's kept, 
 ``certified=True`` returns instead the weak-duality bound of `certify.certified_bound`, an upper bound
 on h_Z(d) in floating point whatever the solver did (free factors: multipliers corrected by least
 squares, residual charged against a rigorous bound on the free factors, else `SolverError`).
+
+Every answer, certified or not, is checked a posteriori (`CZProgram._verified`): the bound U and the
+solver's value L of the same solve bracket h_Z(d), so U − L bounds the error of both; a bracket wider
+than ``SUPPORT_GAP_TOL`` of the set's width along d is solved again by the simplex method. Interior-
+point answers that stop early (a loose dual on badly scaled free factors) are caught this way rather
+than returned as silently wrong numbers.
 """
 
 from __future__ import annotations
@@ -92,23 +98,79 @@ class CZProgram:
         SolverError
             When no fallback settles a program, or (``certified``) no sound finite bound exists.
         """
-        values, points, xis, lams = self._solve(D, certified is True, certified is not False)
-        if certified:
-            values = self._certify(D, values, lams)
-        elif certified is None:
-            try:
-                values = self._certify(D, values, lams)
-            except SolverError as err:
-                if err.status != "UncertifiableReducedCost":
-                    raise
-        return values, points
+        solved = self._solve(D, certified is True, True)
+        (values, points, _, _), bounds = self._verified(D, solved, certified is True)
+        if certified is False or bounds is None:
+            return values, points
+        return bounds, points
+
+    def _verified(self, D: np.ndarray, solved: tuple, must_certify: bool):
+        """The a-posteriori check of every value of ``solved`` = (values, points, factors,
+        multipliers) from `_solve`: returns the checked quadruple and the certified bounds (or None).
+
+        The certified bound U (weak duality, any λ) and the solver's value L (of a point feasible to
+        the solver's tolerance) bracket the exact support, so U − L bounds the error of both. Where
+        it exceeds ``SUPPORT_GAP_TOL`` of the set's width along d (`_gap_tolerance`), the direction
+        is solved again by the simplex method (`FactorConstraints.maximize` with ``escalate``),
+        and the better answer kept: the smaller U (both are bounds) and the solution of the tighter
+        bracket. A value is never returned above its bound. Without a sound bound (free factors
+        neither determined nor cancelled exactly) the solver's values are returned unchecked.
+        """
+        values, points, xis, lams = solved
+        try:
+            bounds = self._certify(D, values, lams)
+        except SolverError as err:
+            if must_certify or err.status != "UncertifiableReducedCost":
+                raise
+            return solved, None
+        finite = np.isfinite(values) & np.isfinite(bounds)
+        with np.errstate(invalid="ignore"):
+            loose = finite & ~(bounds - values <= self._gap_tolerance(D, values, bounds))
+        rows = np.flatnonzero(loose)
+        if rows.size:
+            values, points, xis, lams, bounds = (a.copy() for a in (values, points, xis, lams,
+                                                                    bounds))
+            v2, p2, x2, l2 = self._solve(D[rows], must_certify, True, escalate=True)
+            ok = np.isfinite(v2)
+            b2 = None
+            if ok.any():
+                try:
+                    b2 = self._certify(D[rows][ok], v2[ok], l2[ok])
+                except SolverError as err:
+                    if err.status != "UncertifiableReducedCost":
+                        raise
+            if b2 is not None:
+                r = rows[ok]
+                better = (b2 - v2[ok]) < (bounds[r] - values[r])
+                take = r[better]
+                values[take], points[take] = v2[ok][better], p2[ok][better]
+                xis[take], lams[take] = x2[ok][better], l2[ok][better]
+                bounds[r] = np.minimum(bounds[r], b2)
+        values = np.where(finite, np.minimum(values, bounds), values)
+        return (values, points, xis, lams), bounds
+
+    @staticmethod
+    def _gap_tolerance(D: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+        """``SUPPORT_GAP_TOL`` times the width of the set along each row d of ``D`` (lower bound
+        L(d) + L(−d) when −d is a row too; else the magnitude |L| + |U|), plus the rounding floor
+        ``SUPPORT_GAP_FLOOR``·(|L| + |U|)."""
+        magnitude = np.abs(lower) + np.abs(upper)
+        scale = magnitude.copy()
+        rows = {(row + 0.0).tobytes(): i for i, row in enumerate(D)}  # + 0.0: −0.0 reads as 0.0
+        for i, row in enumerate(D):
+            j = rows.get((-row + 0.0).tobytes())
+            if j is not None:
+                scale[i] = max(lower[i] + lower[j], 0.0)
+        return tol.SUPPORT_GAP_TOL * scale + tol.SUPPORT_GAP_FLOOR * magnitude
 
     def solutions(self, D: np.ndarray) -> list[SupportSolution]:
-        """`SupportSolution` (value, point, factors, multipliers) for every row of ``D``."""
-        values, points, xis, lams = self._solve(D)
+        """`SupportSolution` (value, point, factors, multipliers) for every row of ``D``, each
+        value checked against its certified bound like `support`'s."""
+        (values, points, xis, lams), _ = self._verified(D, self._solve(D, False, True), False)
         return [SupportSolution(float(v), p, x, m) for v, p, x, m in zip(values, points, xis, lams)]
 
-    def _solve(self, D: np.ndarray, certified: bool = False, tight: bool = False):
+    def _solve(self, D: np.ndarray, certified: bool = False, tight: bool = False,
+               escalate: bool = False):
         k, n = D.shape
         values = np.full(k, np.inf)
         points = np.full((k, n), np.nan)
@@ -127,7 +189,8 @@ class CZProgram:
         try:
             for i in range(k):
                 res = self.factors.maximize(GtD[i], context, magnitude=magnitude[i],
-                                            unverified=certified, tight=tight)
+                                            unverified=certified, tight=tight,
+                                            escalate=escalate)
                 if res.status == "infeasible":
                     return np.full(k, -np.inf), points, xis, lams
                 if res.status == "unbounded":

@@ -202,7 +202,7 @@ class FactorConstraints:
 
     def maximize(self, g: np.ndarray, context: str, kind: str = "support", *,
                  magnitude: np.ndarray | None = None, unverified: bool = False,
-                 tight: bool = False) -> Maximized:
+                 tight: bool = False, escalate: bool = False) -> Maximized:
         """Maximize gᵀξ over the factor set (status policy in the module docstring).
 
         Parameters
@@ -222,6 +222,10 @@ class FactorConstraints:
             The multipliers will certify a bound: with free factors, a solution whose multipliers
             leave more than ``CERTIFICATE_LEAK_TOL`` of the objective on them is solved again with
             iterative refinement (the least-squares correction of a loose λ loosens the bound).
+        escalate : bool
+            Skip the kept instance and start with HiGHS's simplex method, then a fresh instance
+            with iterative refinement: for a program whose first answer failed the caller's
+            a-posteriori check (`CZProgram`: certified bound against primal value).
 
         Raises
         ------
@@ -234,10 +238,16 @@ class FactorConstraints:
         else:
             magnitude = np.abs(g)
         first = self.presolved
-        attempts = [(first, False), (first, True)]
+        if escalate:
+            # The simplex method first: a vertex and exact-to-rounding multipliers, where the
+            # interior-point method stopped with a loose dual (badly scaled free factors).
+            attempts = [(first, "simplex"), (first, True)]
+        else:
+            attempts = [(first, False), (first, True)]
         if not first.dependent_checked:
             attempts.append((None, True))  # the fully presolved program, built only if needed
-        attempts.append((None, "simplex"))
+        if not escalate:
+            attempts.append((None, "simplex"))
         last = "Unknown"
         best: tuple[float, Maximized] | None = None  # the tightest verified reduced-accuracy answer
         rough: Maximized | None = None  # the last unverified one (for certificates only)

@@ -10,7 +10,8 @@ maps every representation of one set to (nearly) the same well-scaled program:
 * finite bounds are scaled out, ``ξ_j = h_j η_j`` with ``|η_j| ≤ 1`` (this makes the program
   invariant under rescaling a bounded factor);
 * rows are scaled to unit ∞-norm over their bounded entries, and the columns of free factors to
-  unit ∞-norm (alternating sweeps where rows hold free factors only), so a row or a free factor
+  unit ∞-norm over those rows (alternating sweeps with the rows that hold free factors only, for
+  free factors seen by no other row), so a row or a free factor
   scaled by 1e±12 is the same row or factor, and free factors take values in the units of the
   bounded ones;
 * zero rows are dropped (an inconsistent one, 0 = b_i ≠ 0, means the set is empty), and, when
@@ -154,15 +155,29 @@ def presolve(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray, *, dependent: bool)
     M.data *= r[M.indices]
     row_scale *= r
     only_free = bounded_norm == 0
-    for _ in range(RUIZ_SWEEPS if has_free else 0):
-        s = np.where(free, _inverse(_col_abs_max(M)), 1.0)
+    if has_free:
+        # A free factor seen by a row with bounded entries takes its units from those rows: scaled
+        # to unit ∞-norm over them, its values are of the bounded factors' size (a state of the
+        # trajectory set at noise scale 1e3 becomes O(1), not 1e3: measured by all rows, the
+        # free-only rows (a dynamics row without noise) would pin it at its raw scale and leave
+        # the interior-point method a dual residual of ~1e-7 on it, and a wrong support value).
+        anchored_entry = ~only_free[M.indices]
+        anchor = np.zeros(M.shape[1])
+        np.maximum.at(anchor, col_of[anchored_entry], np.abs(M.data[anchored_entry]))
+        anchored = free & (anchor > 0)
+        s = np.where(anchored, _inverse(anchor), 1.0)
         M.data *= s[col_of]
         col_scale = col_scale * s
-        if not only_free.any():
-            break  # the bounded-entry row norms do not change with the free columns
-        r = np.where(only_free, _inverse(_row_abs_max(M)), 1.0)
-        M.data *= r[M.indices]
-        row_scale *= r
+        floating = free & ~anchored  # free factors seen by free-only rows only
+        for sweep in range(RUIZ_SWEEPS + 1 if only_free.any() else 0):
+            r = np.where(only_free, _inverse(_row_abs_max(M)), 1.0)
+            M.data *= r[M.indices]
+            row_scale *= r
+            if sweep == RUIZ_SWEEPS or not floating.any():
+                break  # rows last: every kept row has unit ∞-norm
+            s = np.where(floating, _inverse(_col_abs_max(M)), 1.0)
+            M.data *= s[col_of]
+            col_scale = col_scale * s
     nonzero = _row_abs_max(M) > 0
     bs = b * row_scale
     # A zero row reads 0 = b_i; b_i left over by cancellation is rounding, judged against the other
@@ -241,7 +256,10 @@ def project_free(pre: Presolved, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     from scipy.sparse.linalg import lsqr
 
     free = ~pre.bounded
-    lam0 = lsqr(sp.csr_matrix(pre.A[:, free].T), -q[free], atol=1e-15, btol=1e-15)[0]
+    # lsqr's default of 2·m iterations left residuals of 1e-5 on trajectory-sized programs, which
+    # the free factors' values multiply into the objective: a wrong support value.
+    lam0 = lsqr(sp.csr_matrix(pre.A[:, free].T), -q[free], atol=1e-15, btol=1e-15,
+                iter_lim=10 * pre.A.shape[0] + 50)[0]
     shifted = q + pre.A.T @ lam0
     shifted[free] = 0.0
     return shifted, lam0

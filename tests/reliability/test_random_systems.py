@@ -23,3 +23,13 @@ def test_exact_estimators_agree_with_the_trajectory_lp_oracle(index, regime):
     case = in_regime(base_case(SEED, index, T_range=(10, 14), n_range=(2, 4)), regime)
     result = compare_case(case)
     assert not result.failed, "\n" + describe(result)
+
+
+@pytest.mark.parametrize("regime", ["scale1e+03", "scale1e-06"])
+def test_trajectory_smoother_hulls_at_extreme_noise_scales(regime):
+    # System 0 at T = 14: at noise scale 1e3 the states were 1e3 in the solver's units and Clarabel
+    # stopped with a dual residual of 4e-7 on them; the plain hull's lower end at k = 14 was 6.05
+    # too high (width 2481) and the certified one 31 too wide.
+    case = in_regime(base_case(SEED, 0, T_range=(10, 16), n_range=(2, 4)), regime)
+    result = compare_case(case, estimators=("trajectory",))
+    assert not result.failed, "\n" + describe(result)

@@ -106,3 +106,23 @@ def test_members_of_a_factor_rescaled_set_are_accepted(seed):
         boundary = Z.support_point(d)
         assert W.contains(boundary)
         assert not W.contains(boundary + 1e-3 * d / np.linalg.norm(d))
+
+
+def test_a_trajectory_set_presolves_to_the_same_program_at_every_noise_scale():
+    # Scaling every noise set, the states and the measurements by s is a change of units: the
+    # presolved program must not see it. The free factors (states) take the units of the rows with
+    # bounded entries; measured by all rows, the noise-free dynamics rows pinned them at their raw
+    # scale (1e3 at noise scale 1e3), where Clarabel stopped with a loose dual.
+    from tests.reliability.random_systems import base_case, in_regime
+
+    base = base_case(2026, 0, T_range=(10, 16), n_range=(2, 4))
+    programs = []
+    for regime in ("scale1", "scale1e+03", "scale1e-06"):
+        case = in_regime(base, regime)
+        S = ss.optimal_smoother(case.system, case.X0, case.ys, method="trajectory")[3]
+        programs.append(S.factors.presolved)
+    first = programs[0]
+    assert first.has_free
+    for pre in programs[1:]:
+        assert abs(pre.A - first.A).max() <= 1e-14
+        np.testing.assert_allclose(pre.b, first.b, atol=1e-13)
