@@ -158,7 +158,8 @@ class SetEstimates(list):
                    times: Any = None, label: str | None = None, **kwargs) -> list:
         """Shade the interval-hull tube lo[k, i]..hi[k, i] against k for each coordinate i in ``dims``.
 
-        Call it on the filtered and on the smoothed result with the same axes to compare them.
+        Call it on the filtered and on the smoothed result with the same axes to compare them:
+        ``axes = filtered.plot_tubes(); smoothed.plot_tubes(axes, truth=xs)``.
 
         Parameters
         ----------
@@ -177,8 +178,14 @@ class SetEstimates(list):
 
         Returns
         -------
-        list of matplotlib.collections.PolyCollection
-            One tube per coordinate.
+        list of matplotlib.axes.Axes
+            The axes drawn on, one per coordinate of ``dims`` (pass them back as ``ax``); each tube is
+            the last of its axes' ``collections``.
+
+        Raises
+        ------
+        TypeError
+            When ``ax`` holds something other than matplotlib Axes.
         """
         import matplotlib.pyplot as plt
 
@@ -190,7 +197,11 @@ class SetEstimates(list):
             _, ax = plt.subplots(len(dims), 1, sharex=True, squeeze=False,
                                  figsize=(6.4, 1.0 + 1.8 * len(dims)))
             ax = ax[:, 0]
-        axes = list(np.atleast_1d(ax).ravel())
+        axes = list(np.atleast_1d(np.asarray(ax, dtype=object)).ravel())
+        wrong = next((a for a in axes if not hasattr(a, "fill_between")), None)
+        if wrong is not None:
+            raise TypeError(f"ax must be a matplotlib Axes or a sequence of them (one per coordinate of "
+                            f"dims), got {type(wrong).__name__}")
         if len(axes) != len(dims):
             raise ValueError(f"ax must hold one Axes per coordinate of dims ({len(dims)}), got {len(axes)}")
         if times is None:
@@ -201,16 +212,14 @@ class SetEstimates(list):
             raise ValueError(f"times must have shape ({len(self)},), got {times.shape}")
         xs = None if truth is None else real_array(truth, "truth").reshape(len(self), n)
         kwargs.setdefault("alpha", 0.35)
-        artists = []
         for a, i in zip(axes, dims):
-            artists.append(a.fill_between(times, self.lo[:, i], self.hi[:, i],
-                                          label=label if label is not None else (self.kind or None),
-                                          **kwargs))
+            a.fill_between(times, self.lo[:, i], self.hi[:, i],
+                           label=label if label is not None else (self.kind or None), **kwargs)
             if xs is not None:
                 a.plot(times, xs[:, i], color="black", linewidth=1.0, label="true state")
             a.set_ylabel(f"$x_{{{i}}}$")
         axes[-1].set_xlabel("t" if getattr(self.system, "dt", None) is not None else "k")
-        return artists
+        return axes
 
     # -- provenance ----------------------------------------------------------------------------------
     def check_same_data(self, system: Any, X0: ConvexSet, ys: np.ndarray) -> None:

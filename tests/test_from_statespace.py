@@ -209,7 +209,8 @@ def test_sampling_time_is_validated_and_sets_the_tube_plot_time_axis():
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    (tube,) = filtered.plot_tubes()
+    (ax,) = filtered.plot_tubes()
+    tube = ax.collections[-1]
     assert np.allclose(np.unique(tube.get_paths()[0].vertices[:, 0]), [0.0, 0.25, 0.5])
     assert tube.axes.get_xlabel() == "t"
     plt.close("all")

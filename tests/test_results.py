@@ -117,9 +117,10 @@ def test_hull_cache_follows_replaced_entries(run):
 def test_plot_tubes_draws_one_tube_per_coordinate_between_lo_and_hi(run):
     _, xs, _, filtered, smoothed = run
     fig, axes = plt.subplots(2, 1)
-    tubes = filtered.plot_tubes(axes, label="filtered")
-    smoothed.plot_tubes(axes, truth=xs)
-    assert len(tubes) == 2
+    drawn = filtered.plot_tubes(axes, label="filtered")
+    assert list(drawn) == list(axes)
+    tubes = [a.collections[0] for a in drawn]
+    assert smoothed.plot_tubes(drawn, truth=xs) == drawn       # the returned axes take the next tubes
     for i, tube in enumerate(tubes):
         ys_drawn = tube.get_paths()[0].vertices[:, 1]
         assert np.isclose(ys_drawn.min(), filtered.lo[:, i].min())
@@ -130,6 +131,8 @@ def test_plot_tubes_draws_one_tube_per_coordinate_between_lo_and_hi(run):
     assert len(one) == 1
     with pytest.raises(ValueError, match="one Axes per coordinate"):
         smoothed.plot_tubes(axes[0], dims=[0, 1])
+    with pytest.raises(TypeError, match="ax must be a matplotlib Axes"):
+        smoothed.plot_tubes(tubes, dims=[0, 1])                # artists are not axes
     with pytest.raises(ValueError, match=r"dims must be coordinates in \[0, 2\)"):
         smoothed.plot_tubes(dims=[2])
     plt.close("all")
