@@ -43,6 +43,7 @@ from ..sets.constrained_zonotope import ConstrainedZonotope
 from ..sets.empty import EmptySet
 from ..sets.reals import Reals
 from ..systems import LinearSystem
+from .classical import _first_empty
 
 __all__ = ["joint_trajectory_set", "optimal_filter", "optimal_joint_smoother",
            "augment_identical_process_noise"]
@@ -308,19 +309,3 @@ def _assemble(system, joint_range: JointRange, cz: ConstrainedZonotope, ys: np.n
     trajectories = ConstrainedZonotope._trusted(G, nominal.reshape(-1), A, b, h)
     trajectories.factors  # created now, so that every projection shares one factor set
     return trajectories
-
-
-def _first_empty(posteriors: list[ConvexSet]) -> int:
-    """Index of the first empty posterior, by bisection (emptiness is monotone in k: more data, fewer
-    consistent ξ)."""
-    last = len(posteriors) - 1
-    if not posteriors[last].is_empty():
-        return last + 1
-    lo, hi = 0, last
-    while lo < hi:
-        mid = (lo + hi) // 2
-        if posteriors[mid].is_empty():
-            hi = mid
-        else:
-            lo = mid + 1
-    return lo
