@@ -13,7 +13,7 @@ Cases (full size / ``--quick`` size):
 * ``triangle``: example (31)'s dynamics with B = I and the triangle CZ of
   ``examples/new_set_representation.py`` as W, T = 800 (quick 100): filter + every certified hull.
 * ``crossover``: example (31)'s exact filter with certified hulls as posterior views and as the
-  recursion's CZs, on the same data in one process (`classical_filter.VIEWS_FROM_STEPS`), T = 50, 100.
+  recursion's CZs, on the same data in one process (`classical_filter(..., form=...)`), T = 50, 100.
 * ``fig3``: one Monte-Carlo run of the smoothing paper's Fig. 3 (``paper_figures/smoothing_fig3.py``,
   T = 50), median over repeats with different seeds.
 
@@ -129,19 +129,13 @@ def run_case(case: str, size: int, seed: int) -> dict:
         extra = {"steps": size + 1, "filter_s": filter_s,
                  "smoother_s": time.perf_counter() - wall - filter_s, "true_states_inside": bool(inside)}
     elif case == "crossover":
-        import setsmooth.filters.classical as classical
-
         system, X0 = _example_31(), ss.Box([-5.0, -5.0], [5.0, 5.0])
         _, ys = ss.simulate(system, X0, size, np.random.default_rng(seed))
         times = {}
-        for form, threshold in (("views", 0), ("recursion", len(ys) + 1)):
-            saved, classical.VIEWS_FROM_STEPS = classical.VIEWS_FROM_STEPS, threshold
-            try:
-                start = time.process_time()
-                [P.interval_hull(certified=True) for P in ss.classical_filter(system, X0, ys)]
-                times[form] = time.process_time() - start
-            finally:
-                classical.VIEWS_FROM_STEPS = saved
+        for form in ("views", "recursion"):
+            start = time.process_time()
+            [P.interval_hull(certified=True) for P in ss.classical_filter(system, X0, ys, form=form)]
+            times[form] = time.process_time() - start
         extra = {"steps": size + 1, "views_cpu_s": times["views"], "recursion_cpu_s": times["recursion"]}
     elif case == "fig3":
         figures = os.path.join(os.environ.get("BENCH_CHECKOUT", ROOT), "paper_figures")

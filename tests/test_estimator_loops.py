@@ -54,7 +54,7 @@ def test_filter_and_smoother_give_exactly_the_sets_of_the_public_operators(name)
     system = SYSTEMS[name]()
     X0 = ss.ConstrainedZonotope([[1.0, 0.5, 0.0], [0.0, 1.0, 0.3]], [0.2, -0.1], A=[[1.0, 1.0, 1.0]], b=[0.4])
     _, ys = ss.simulate(system, X0, 8, np.random.default_rng(3))
-    posts = ss.classical_filter(system, X0, ys, detect_empty=False)
+    posts = ss.classical_filter(system, X0, ys, detect_empty=False, form="recursion")
     reference = _operator_filter(system, X0, ys)
     for ours, theirs in zip(posts, reference, strict=True):
         _assert_same_cz(ours, theirs)

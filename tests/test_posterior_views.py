@@ -8,7 +8,10 @@ import scipy.sparse as sp
 from scipy.optimize import linprog
 
 import setsmooth as ss
-from setsmooth.filters.classical import VIEWS_FROM_STEPS, predict, update
+from setsmooth.filters.classical import predict, update
+
+#: A horizon long enough for the views' sharing to matter (the recursion is O(T³)).
+HORIZON = 64
 from setsmooth.paper_examples import smoothing_example_31
 from setsmooth.posterior_views import PosteriorView, posterior_views
 from setsmooth.solvers import instances
@@ -88,7 +91,7 @@ def test_a_view_is_exactly_the_trajectory_cz_over_0_to_k():
 def test_views_are_the_recursion_posteriors_with_cz_noises():
     system = triangle_system()
     rng = np.random.default_rng(1)
-    _, ys = ss.simulate(system, X0, VIEWS_FROM_STEPS + 5, rng)
+    _, ys = ss.simulate(system, X0, HORIZON + 5, rng)
     views = ss.classical_filter(system, X0, ys)
     assert all(isinstance(P, PosteriorView) for P in views)
     recursion = recursion_posteriors(system, X0, ys)
@@ -115,7 +118,7 @@ def test_certified_hulls_of_views_enclose_the_highs_optimum_over_hundreds_of_ste
 
 def test_views_keep_no_matrices_and_the_solver_cache_stays_bounded():
     system = smoothing_example_31()
-    _, ys = ss.simulate(system, X0, VIEWS_FROM_STEPS + 16, np.random.default_rng(2))
+    _, ys = ss.simulate(system, X0, HORIZON + 16, np.random.default_rng(2))
     views = ss.classical_filter(system, X0, ys)
     hulls = [P.interval_hull(certified=True) for P in views]
     assert all(not isinstance(h, ss.EmptySet) for h in hulls)
@@ -131,7 +134,7 @@ def test_views_keep_no_matrices_and_the_solver_cache_stays_bounded():
 
 def test_an_inconsistent_measurement_empties_the_views_from_its_step_on():
     system = smoothing_example_31()
-    _, ys = ss.simulate(system, X0, VIEWS_FROM_STEPS + 10, np.random.default_rng(3))
+    _, ys = ss.simulate(system, X0, HORIZON + 10, np.random.default_rng(3))
     ys[50] += 100.0
     posts = ss.classical_filter(system, X0, ys)
     assert all(isinstance(P, PosteriorView) for P in posts[:50])
@@ -176,7 +179,7 @@ def test_threads_querying_the_same_views_get_the_serial_answers():
     from concurrent.futures import ThreadPoolExecutor
 
     system = smoothing_example_31()
-    _, ys = ss.simulate(system, X0, VIEWS_FROM_STEPS + 2, np.random.default_rng(6))
+    _, ys = ss.simulate(system, X0, HORIZON + 2, np.random.default_rng(6))
     views = ss.classical_filter(system, X0, ys)
     picks = [3, 30, 50, len(ys) - 1]
     D = np.vstack([np.eye(2), -np.eye(2)])

@@ -21,17 +21,20 @@ from ..sets.base import ConvexSet
 from ..sets.empty import EmptySet
 from ..sets.reduction import apply_methods, as_methods
 
-#: From this many measurements on, the exact filter's CZ posteriors are views of one trajectory CZ
-#: (`setsmooth.posterior_views`) instead of the recursion's CZs. Below, the recursion's small dense
-#: CZs (no free factors) are cheaper to query: example (31) with certified hulls, CPU per data set at
-#: T = 50, views 0.33 s, recursion 0.22 s; T = 100, 0.88 s and 1.37 s (``benchmarks/bench_long_horizon.py
-#: --cases crossover``);
-#: the recursion's cost grows as O(T³), the views' as O(T²).
-VIEWS_FROM_STEPS = 64
+#: The forms of the exact filter's CZ posteriors (``form=``). 'views': the last projections of one
+#: sparse trajectory CZ (`setsmooth.posterior_views`), O(T) memory for a data set, and the accurate
+#: form: the recursion's CZs of an unstable system carry generators grown like ‖A‖^k around a set of
+#: unit width (reliability case 027, ρ(A) = 3.5, T = 11: generators ~1e6 for a width ~3), and their
+#: hull endpoints were 3e-4 of the width off the HiGHS oracle in every noise regime, while the views,
+#: whose states are deviations from the nominal trajectory, agreed to 1e-6. 'recursion': Algorithm 1's
+#: CZs, built step by step (the recursion smoother's input). Cost, example (31) with certified hulls,
+#: CPU per data set: T = 50, views 0.33 s, recursion 0.22 s; T = 100, 0.88 s and 1.37 s (the
+#: recursion grows as O(T³), the views as O(T²); ``benchmarks/bench_long_horizon.py --cases crossover``).
+FORMS = ("auto", "views", "recursion")
 
 
 def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
-                     detect_empty: bool = True) -> SetEstimates:
+                     detect_empty: bool = True, form: str = "auto") -> SetEstimates:
     """Posterior ranges ⟦x_k | y_{0:k}⟧ for k = 0..T (stability paper Algorithm 1).
 
     With ``reduce`` it is a bounded filter: the reduction is applied to every posterior before the next
@@ -56,6 +59,11 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
         consistent (a bisection otherwise), not one per step (with ``reduce``: one per step). With
         False the sets are returned as computed; an empty one is still empty (``is_empty()``), only
         not simplified.
+    form : {'auto', 'views', 'recursion'}
+        How exact posteriors of constrained-zonotope data are represented (the same sets either way):
+        'auto' and 'views' give `PosteriorView`s of one shared trajectory CZ (accurate and O(T)
+        memory; see `FORMS`), 'recursion' the CZs of Algorithm 1's recursion (what the recursion
+        smoother reads). Sets without a CZ form always take the trajectory program.
 
     Returns
     -------
@@ -66,12 +74,14 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
         means the measurements are inconsistent with the model (ill-posedness is data, not an
         exception). Without ``reduce``, when X0, W or V has no CZ form and X0 and W are bounded, the
         posteriors are `FilteredState`s: the same sets as projections of one compiled trajectory
-        program (`setsmooth.trajectory_program`). When they all flatten to CZs and there are at least
-        `VIEWS_FROM_STEPS` measurements, they are `PosteriorView`s: the same CZs as projections of
-        one shared sparse trajectory CZ (`setsmooth.posterior_views`), O(T) memory for all of them.
+        program (`setsmooth.trajectory_program`). When they all flatten to CZs they are
+        `PosteriorView`s (unless ``form='recursion'``): the same CZs as projections of one shared
+        sparse trajectory CZ (`setsmooth.posterior_views`), O(T) memory for all of them.
     """
     ys = as_measurements(ys, system.m)
     _check_state_set(X0, "X0", system.n)
+    if form not in FORMS:
+        raise ValueError(f"form must be one of {FORMS}, got {form!r}")
     if reduce is not None:
         return SetEstimates(_reduced_filter(system, X0, ys, as_methods(reduce, "reduce"), detect_empty),
                             system=system, X0=X0, ys=ys, kind="filtered", outer=True)
@@ -82,7 +92,7 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
         from ..trajectory_program import filtered_ranges
 
         posteriors = filtered_ranges(system, X0, ys)
-    elif len(ys) >= VIEWS_FROM_STEPS:
+    elif form != "recursion":
         # The recursion's CZs grow O(k²) dense rows each (O(T³) time and memory over a data set);
         # as views of one sparse trajectory CZ they are the same sets at O(k) per query, O(T) kept.
         from ..posterior_views import posterior_views

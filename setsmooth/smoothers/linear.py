@@ -89,7 +89,7 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
         return SetEstimates(smoothed_ranges_from_trajectories(trajectory_set(system, X0, ys), system.n),
                             system=system, X0=X0, ys=ys, kind="smoothed")
     if posteriors is None:
-        posteriors = classical_filter(system, X0, ys)
+        posteriors = classical_filter(system, X0, ys, form="recursion")   # Algorithm 1 reads these CZs
     elif len(posteriors) != len(ys):
         raise ValueError(f"posteriors must hold one set per measurement ({len(ys)}), got {len(posteriors)}")
     if isinstance(posteriors, SetEstimates):

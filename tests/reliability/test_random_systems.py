@@ -33,3 +33,20 @@ def test_trajectory_smoother_hulls_at_extreme_noise_scales(regime):
     case = in_regime(base_case(SEED, 0, T_range=(10, 16), n_range=(2, 4)), regime)
     result = compare_case(case, estimators=("trajectory",))
     assert not result.failed, "\n" + describe(result)
+
+
+@pytest.mark.parametrize("regime", ["scale1", "offset1e+06"])
+def test_filter_hulls_stay_exact_on_a_strongly_unstable_system(regime):
+    """Case 027 (ρ(A) = 3.5, CZ noises, T = 11): the recursion's CZs carry generators ~1e6 around sets
+    ~3 wide and their hulls were 3e-4 of the width off; the filter's trajectory views are exact."""
+    case = in_regime(base_case(2026, 27, T_range=(10, 12), n_range=(2, 6)), regime)
+    result = compare_case(case, estimators=("filter",))
+    assert not result.failed, describe(result)
+
+
+def test_the_filter_form_is_checked_at_the_door():
+    import setsmooth as ss
+
+    case = base_case(2026, 0, T_range=(10, 12), n_range=(2, 3))
+    with pytest.raises(ValueError, match="form must be one of"):
+        ss.classical_filter(case.system, case.X0, case.ys, form="fast")
