@@ -138,6 +138,14 @@ def polygons(sets: list[ss.ConvexSet]) -> list[np.ndarray]:
     return [np.zeros((0, 2)) if S.is_empty() else S.vertices_2d() for S in sets]
 
 
+def draw_polygon(ax, P: np.ndarray, color, **kw) -> None:
+    """Outline of the polygon with vertices ``P`` (counter-clockwise); nothing for an empty one."""
+    if len(P) == 0:
+        return
+    closed = np.vstack([P, P[:1]])
+    ax.plot(closed[:, 0], closed[:, 1], color=color, **kw)
+
+
 def curves(true_polys: list[np.ndarray], polys: list[np.ndarray]) -> dict[str, np.ndarray]:
     """2-norm diameters (0 for an empty estimate, the paper's convention), exact 2-norm Hausdorff gaps
     and the authors' vertex surrogate (NaN for an empty estimate)."""

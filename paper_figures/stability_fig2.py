@@ -138,13 +138,6 @@ def _rows(example, xs, sets, polys, curves, true_diam, bound, oit_bound) -> list
     ]
 
 
-def _draw(ax, P, color, **kw):
-    if len(P) == 0:
-        return
-    closed = np.vstack([P, P[:1]])
-    ax.plot(closed[:, 0], closed[:, 1], color=color, **kw)
-
-
 def _plot(polys, curves, true_diam, bound, xs):
     fig = plt.figure(figsize=(15, 10.5))
     grid = fig.add_gridspec(3, 4, height_ratios=[1, 1, 1.1])
@@ -152,11 +145,11 @@ def _plot(polys, curves, true_diam, bound, xs):
         ax = fig.add_subplot(grid[idx // 4, idx % 4])
         if kk == 0:
             for name, lo_hi in ex.DESIGNERS.items():
-                _draw(ax, ss.Box(*lo_hi).vertices_2d(), COLORS[name], linestyle=":", linewidth=1)
-            _draw(ax, ss.Box(*ex.TRUE_X0).vertices_2d(), "black", linestyle=":", linewidth=1)
+                ex.draw_polygon(ax, ss.Box(*lo_hi).vertices_2d(), COLORS[name], linestyle=":", linewidth=1)
+            ex.draw_polygon(ax, ss.Box(*ex.TRUE_X0).vertices_2d(), "black", linestyle=":", linewidth=1)
         for name in ("OIT", "Carol", "Bob", "Alice", "David", "true"):
             style = {"linewidth": 3.0, "alpha": 0.35} if name == "OIT" else {"linewidth": 1.4}
-            _draw(ax, polys[name][kk], COLORS[name], label=name if idx == 0 else None, **style)
+            ex.draw_polygon(ax, polys[name][kk], COLORS[name], label=name if idx == 0 else None, **style)
         ax.plot(*xs[kk], "k*", markersize=7)
         empty = [n for n in ex.DESIGNERS if len(polys[n][kk]) == 0]
         ax.set_title(f"k = {kk}" + (f" ({', '.join(empty)}: ∅)" if empty else ""), fontsize=10)

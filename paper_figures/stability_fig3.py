@@ -115,20 +115,13 @@ def _rows(example, xs, sets, curves, true_diam, dec, upsilon) -> list[dict]:
     ]
 
 
-def _draw(ax, P, color, **kw):
-    if len(P) == 0:
-        return
-    closed = np.vstack([P, P[:1]])
-    ax.plot(closed[:, 0], closed[:, 1], color=color, **kw)
-
-
 def _plot(polys, curves, true_diam, xs):
     fig = plt.figure(figsize=(15, 9))
     grid = fig.add_gridspec(2, 6, height_ratios=[1, 1.2])
     for idx, kk in enumerate(PANEL_K):
         ax = fig.add_subplot(grid[0, idx])
         for name in ("Carol", "Bob", "Alice", "David", "true"):
-            _draw(ax, polys[name][kk], COLORS[name], linewidth=1.4, label=name if idx == 0 else None)
+            ex.draw_polygon(ax, polys[name][kk], COLORS[name], linewidth=1.4, label=name if idx == 0 else None)
         ax.plot(*xs[kk], "k*", markersize=7)
         empty = [n for n in ex.DESIGNERS if len(polys[n][kk]) == 0]
         ax.set_title(f"k = {kk}" + (f" ({', '.join(empty)}: ∅)" if empty else ""), fontsize=9)
