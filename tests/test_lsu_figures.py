@@ -2,26 +2,11 @@
 
 from __future__ import annotations
 
-import importlib
-import json
-
 import numpy as np
-import pytest
 
-from setsmooth import cli
+from tests.figure_helpers import written
 
 SMALL = {"seed": 1, "progress": False, "executor": "serial", "K_values": (3.0, 0.0), "horizon": 15}
-
-
-@pytest.fixture
-def figures(monkeypatch):
-    monkeypatch.syspath_prepend(str(cli.find_figures_dir()))
-    return importlib.import_module
-
-
-def written(out, name):
-    assert (out / f"{name}.png").stat().st_size > 10_000
-    return json.loads((out / f"{name}.json").read_text())
 
 
 def test_tables_and_figures_share_one_experiment_and_report_every_published_value(figures, tmp_path):

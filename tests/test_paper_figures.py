@@ -2,31 +2,19 @@
 
 from __future__ import annotations
 
-import importlib
 import json
 
 import numpy as np
 import pytest
 
 from setsmooth import cli
+from tests.figure_helpers import written
 
 TINY_GRID = (0.03, 0.3)
 
 
-@pytest.fixture
-def figures(monkeypatch):
-    """Import a figure script (or helper) of paper_figures/ by name."""
-    monkeypatch.syspath_prepend(str(cli.find_figures_dir()))
-    return importlib.import_module
-
-
 def small(**kw):
     return {"seed": 3, "progress": False, "executor": "serial", **kw}
-
-
-def written(out, name):
-    assert (out / f"{name}.png").stat().st_size > 10_000
-    return json.loads((out / f"{name}.json").read_text())
 
 
 def test_fig3_smoothed_hulls_are_inside_filtered_hulls_and_contain_the_truth(figures, tmp_path):

@@ -2,29 +2,14 @@
 
 from __future__ import annotations
 
-import importlib
-import json
-
 import numpy as np
 import pytest
 
-from setsmooth import cli
-
-
-@pytest.fixture
-def figures(monkeypatch):
-    """Import a figure script (or helper) of paper_figures/ by name."""
-    monkeypatch.syspath_prepend(str(cli.find_figures_dir()))
-    return importlib.import_module
+from tests.figure_helpers import written
 
 
 def small(**kw):
     return {"seed": 5, "progress": False, "executor": "serial", **kw}
-
-
-def written(out, name):
-    assert (out / f"{name}.png").stat().st_size > 10_000
-    return json.loads((out / f"{name}.json").read_text())
 
 
 def test_fig1_law_of_total_range_and_bayes_rule_give_the_captions_intervals(figures, tmp_path):

@@ -2,24 +2,9 @@
 
 from __future__ import annotations
 
-import importlib
-import json
-
 import numpy as np
-import pytest
 
-from setsmooth import cli
-
-
-@pytest.fixture
-def figures(monkeypatch):
-    monkeypatch.syspath_prepend(str(cli.find_figures_dir()))
-    return importlib.import_module
-
-
-def written(out, name):
-    assert (out / f"{name}.png").stat().st_size > 10_000
-    return json.loads((out / f"{name}.json").read_text())
+from tests.figure_helpers import written
 
 
 def test_fig4_oit_cz_estimates_stay_bounded_and_contain_the_truth(figures, tmp_path):
