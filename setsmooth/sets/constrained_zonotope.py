@@ -272,15 +272,17 @@ class ConstrainedZonotope(ConvexSet):
 
     def _minkowski_sum(self, other: "ConstrainedZonotope") -> "ConstrainedZonotope":
         """Z ⊕ W (smoothing paper (36))."""
-        return ConstrainedZonotope._trusted(
-            mx.hstack([self.G, other.G]), self.c + other.c, mx.block_diag(self.A, other.A),
-            np.concatenate([self.b, other.b]), np.concatenate([self.h, other.h]))
+        A, b, h = mx.block_diag(self.A, other.A), np.concatenate([self.b, other.b]), \
+            np.concatenate([self.h, other.h])
+        return ConstrainedZonotope._trusted(mx.hstack([self.G, other.G]), self.c + other.c, A, b, h,
+                                            _joined_factors(A, b, h, self, other))
 
     def _cartesian_product(self, other: "ConstrainedZonotope") -> "ConstrainedZonotope":
+        A, b, h = mx.block_diag(self.A, other.A), np.concatenate([self.b, other.b]), \
+            np.concatenate([self.h, other.h])
         return ConstrainedZonotope._trusted(
-            mx.block_diag(self.G, other.G), np.concatenate([self.c, other.c]),
-            mx.block_diag(self.A, other.A), np.concatenate([self.b, other.b]),
-            np.concatenate([self.h, other.h]))
+            mx.block_diag(self.G, other.G), np.concatenate([self.c, other.c]), A, b, h,
+            _joined_factors(A, b, h, self, other))
 
     def _generalized_intersection(self, R, Y: "ConstrainedZonotope") -> "ConstrainedZonotope":
         """Z ∩_R Y = {z ∈ Z : Rz ∈ Y} (smoothing paper (37); stability (21) with R = C).
@@ -298,7 +300,18 @@ class ConstrainedZonotope(ConvexSet):
             A = sp.csc_matrix(A)
         G = mx.hstack([self.G, mx.zeros_like_kind(self.dim, Y.ng, sp.issparse(self.G))])
         b = np.concatenate([self.b, Y.b, Y.c - np.asarray(R @ self.c).reshape(-1)])
-        return ConstrainedZonotope._trusted(G, self.c, A, b, np.concatenate([self.h, Y.h]))
+        h = np.concatenate([self.h, Y.h])
+        return ConstrainedZonotope._trusted(G, self.c, A, b, h, _joined_factors(A, b, h, self, Y))
+
+
+def _joined_factors(A, b, h, *operands: "ConstrainedZonotope") -> FactorConstraints | None:
+    """The factor set of a CZ built from ``operands``' factors side by side (None: built lazily).
+
+    Only when an operand has free factors: their known bounds carry over (`FactorConstraints.joined`).
+    """
+    if all(np.isfinite(Z.h).all() for Z in operands):
+        return None
+    return FactorConstraints.joined(A, b, h, [Z.factors for Z in operands])
 
 
 def _column_max(M) -> np.ndarray:

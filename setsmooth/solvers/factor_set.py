@@ -56,6 +56,10 @@ _UNBOUNDED = ("DualInfeasible", "AlmostDualInfeasible")
 #: (a direction orthogonal to the free factors' lineality, computed in floating point).
 NOISE_FACTOR = 64
 
+#: A part of a joined factor set (`FactorConstraints.joined`) with at most this many free factors has
+#: its dense free-factor bound computed when the parts are joined.
+CHEAP_FREE_BOUND_MAX = 60
+
 #: Linearly dependent rows are looked for up front (dense rank-revealing QR) when nc·ng is at most
 #: this; larger (sparse, trajectory-sized) programs look for them only after a failed solve.
 DENSE_PRESOLVE_MAX = 5_000
@@ -134,6 +138,39 @@ class FactorConstraints:
         if self._pre_full is None:
             self._pre_full = presolve(self.A, self.b, self.h, dependent=True)
         return self._pre_full
+
+    @classmethod
+    def joined(cls, A, b: np.ndarray, h: np.ndarray, parts: list["FactorConstraints | None"]
+               ) -> "FactorConstraints | None":
+        """The factor set of a CZ whose factors are those of ``parts`` side by side, with more rows.
+
+        Minkowski sums, Cartesian products and generalized intersections of CZs concatenate their
+        operands' factors and add rows: every factor vector of the result restricts, on each part's
+        columns, to a factor vector of that part. So the parts' free-factor bounds β_i ≥ ‖ξ_F,i‖∞
+        bound the result's: β = max_i β_i, with no eigenvalue problem on the (larger) result. That
+        keeps certified supports available where the result has more free factors than the dense
+        bound accepts (the recursion smoother on the filter's trajectory views). A part's bound is
+        used only when already known or cheap (no free factors, a structured factor set, or a small
+        one); otherwise the result's own bound is computed when first needed, as before.
+
+        Returns None (the CZ builds its factor set lazily) when no part has free factors.
+        """
+        if not any(p is not None and p.free.size for p in parts):
+            return None
+        joined = cls(A, b, h)
+        betas = [p._cheap_free_bound() for p in parts]
+        if all(beta is not None for beta in betas):
+            joined._free_bound = (max(betas, default=0.0),)
+        return joined
+
+    def _cheap_free_bound(self) -> float | None:
+        """`free_bound` when it is known or cheap to compute (see `joined`), else None."""
+        if self.free.size == 0:
+            return 0.0
+        if self._free_bound is not None or type(self).free_bound is not FactorConstraints.free_bound \
+                or self.free.size <= CHEAP_FREE_BOUND_MAX:
+            return self.free_bound()
+        return None
 
     def free_bound(self) -> float | None:
         """β ≥ ‖ξ_F‖∞ on the free factors (`certify.free_factor_bound`; cached), or None."""
