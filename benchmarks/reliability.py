@@ -3,7 +3,7 @@
     python benchmarks/reliability.py [--systems N] [--seed S] [--workers W] [--rescaled R]
                                      [--witness K] [--long-horizon L] [--horizon T]
                                      [--T-range MIN MAX] [--n-range MIN MAX] [--start I]
-                                     [--time-limit SECONDS]
+                                     [--time-limit SECONDS] [--estimators filter,recursion,trajectory]
 
 On a shared machine: ``--start`` splits the systems over several invocations (their counts add up),
 ``--time-limit`` stops starting tasks after that long and reports the systems that finished.
@@ -44,14 +44,14 @@ from tests.reliability.random_systems import REGIMES, base_case, in_regime, tria
 
 # -- tasks (module level: they go to worker processes) ------------------------------------------------
 def system_task(seed: int, index: int, with_witness: bool, T_range: tuple[int, int],
-                n_range: tuple[int, int]):
+                n_range: tuple[int, int], estimators: tuple[str, ...] = compare.ESTIMATORS):
     """All regimes of system ``index``: (list of CaseResult or ('oracle', name, msg)), witness outcome."""
     base = base_case(seed, index, T_range=T_range, n_range=n_range)
     results = []
     for regime in REGIMES:
         case = in_regime(base, regime)
         try:
-            results.append(compare.compare_case(case))
+            results.append(compare.compare_case(case, estimators=estimators))
         except OracleError as exc:
             results.append(("oracle", case.name, str(exc)))
     w = None
@@ -205,11 +205,18 @@ def main(argv=None) -> None:
                     help="horizon range of the random systems (issue 7: 10 40)")
     ap.add_argument("--n-range", type=int, nargs=2, default=(2, 6), metavar=("MIN", "MAX"),
                     help="state-dimension range of the random systems (issue 7: 2 6)")
+    ap.add_argument("--estimators", default=",".join(compare.ESTIMATORS),
+                    help="comma-separated subset of " + ", ".join(compare.ESTIMATORS) + " (default: all; "
+                         "the recursion smoother dominates the time at T = 40)")
     ap.add_argument("--no-concurrency", action="store_true")
     ap.add_argument("--time-limit", type=float, default=None, metavar="SECONDS",
                     help="stop starting tasks after this long and report the tasks finished (the "
                          "title says how many systems that is)")
     args = ap.parse_args(argv)
+    estimators = tuple(e.strip() for e in args.estimators.split(",") if e.strip())
+    unknown = [e for e in estimators if e not in compare.ESTIMATORS]
+    if unknown or not estimators:
+        ap.error(f"--estimators must name some of {', '.join(compare.ESTIMATORS)}, got {args.estimators!r}")
 
     t0 = time.perf_counter()
     case_results, oracle_failed, witnesses, rescaled, long_runs = [], [], [], [], []
@@ -222,7 +229,7 @@ def main(argv=None) -> None:
             futures[pool.submit(rescale_task, args.seed, args.rescaled, i)] = "rescale"
         for i in range(args.start, args.start + args.systems):
             futures[pool.submit(system_task, args.seed, i, i < args.witness, tuple(args.T_range),
-                                tuple(args.n_range))] = "system"
+                                tuple(args.n_range), estimators)] = "system"
         for s in range(args.long_horizon):
             futures[pool.submit(long_horizon_task, s, args.horizon)] = "long"
         stopped = False
@@ -255,7 +262,7 @@ def main(argv=None) -> None:
     first = f" from index {args.start}" if args.start else ""
     print(f"\n## setsmooth reliability: seed {args.seed}, {systems_done} systems{first} (T = {args.T_range[0]}.."
           f"{args.T_range[1]}, n = {args.n_range[0]}..{args.n_range[1]}) × {len(REGIMES)} regimes × "
-          f"{len(compare.ESTIMATORS)} estimators ({elapsed:.0f} s on {args.workers} workers)\n")
+          f"{len(estimators)} estimators ({', '.join(estimators)}; {elapsed:.0f} s on {args.workers} workers)\n")
     print(system_table(case_results, "By regime (runs = systems × filter/recursion/trajectory)",
                        lambda r: r.regime))
     print()
@@ -276,7 +283,7 @@ def main(argv=None) -> None:
         print()
     oracle_t = np.median([r.oracle_seconds for r in case_results]) if case_results else float("nan")
     est_t = {e: np.median([o.seconds for r in case_results for o in r.outcomes if o.estimator == e])
-             for e in compare.ESTIMATORS} if case_results else {}
+             for e in estimators} if case_results else {}
     print("Median seconds per case: oracle {:.2f}; ".format(oracle_t) +
           ", ".join(f"{e} {t:.2f}" for e, t in est_t.items()))
     if not args.no_concurrency:
