@@ -18,7 +18,6 @@ import numpy as np
 
 import setsmooth as ss
 from setsmooth import analysis
-from setsmooth.filters import predict, update
 
 PAPER = "stability"
 PAPER_TITLE = ("Stability paper — Cong, Wang, Zhou, *Stability of Linear Set-Membership Filters With "
@@ -80,56 +79,15 @@ def box(lo_hi) -> ss.Box:
     return ss.Box(*lo_hi)
 
 
-def switch_time(dec: analysis.ObservabilityDecomposition) -> int:
-    """k_* = max{μ_o − 1 + n_λ0, 1} of Lemma 1 (n_λ0: index of the eigenvalue 0 of Ã_o)."""
-    A_o = dec.A_o
-    ranks = [A_o.shape[0]] + [np.linalg.matrix_rank(np.linalg.matrix_power(A_o, j)) for j in range(1, dec.n_o + 2)]
-    index0 = next(j for j in range(len(ranks) - 1) if ranks[j] == ranks[j + 1])
-    return max(dec.mu_o - 1 + index0, 1)
-
-
-def carol_estimates(system: ss.LinearSystem, X0: ss.ConvexSet, ys: np.ndarray,
-                    dec: analysis.ObservabilityDecomposition) -> tuple[list[ss.ConvexSet], list[int]]:
-    """Algorithm 2 (OIT-inspired filtering) with the switching time k_* and Lemma 1's θ̄_k = ∞.
-
-    k < k_*: Algorithm 1 from X0; an empty estimate is reset by Line 5, F_{k,0}(P⁻¹(B_θ[0] × P_ō X0))
-    with θ = 1, 2, 4, … until non-empty. k = k_*: Line 7 with the box made inactive, F_{k,0}(P⁻¹(ℝ^{n_o}
-    × P_ō X0)) — exactly the limit θ → ∞ of Lemma 1. k > k_*: Line 7 recursively (the classical step).
-    Returns the estimates and the steps where Line 5 fired.
-    """
-    k_star = switch_time(dec)
-    X0_obar = dec.P_obar @ X0 if dec.n_obar else None
-
-    def started_from(T_o: ss.ConvexSet, k: int) -> ss.ConvexSet:
-        prior = dec.U @ (T_o if X0_obar is None else T_o * X0_obar)
-        return ss.filtering_map(system, prior, ys, 0, k)
-
-    estimates, resets = [], []
-    for k in range(len(ys)):
-        if k < k_star:
-            Z = update(system, k, X0 if k == 0 else predict(system, k - 1, estimates[-1]), ys[k])
-            if Z.is_empty():
-                resets.append(k)
-                theta = 1.0
-                Z = started_from(ss.Box(-np.ones(dec.n_o), np.ones(dec.n_o)), k)
-                while Z.is_empty():
-                    theta *= 2.0
-                    Z = started_from(ss.Box(-theta * np.ones(dec.n_o), theta * np.ones(dec.n_o)), k)
-        elif k == k_star:
-            Z = started_from(ss.Reals(dec.n_o), k)
-        else:
-            Z = update(system, k, predict(system, k - 1, estimates[-1]), ys[k])
-        estimates.append(Z)
-    return estimates, resets
-
-
 def designer_estimates(example: Example, ys: np.ndarray) -> dict[str, list[ss.ConvexSet]]:
     """Posterior sets of the truth (from ⟦x_0⟧) and of the four designers, k = 0..T."""
     system = example.system()
     sets = {"true": ss.classical_filter(system, box(TRUE_X0), ys)}
     for name in CLASSICAL:
         sets[name] = ss.classical_filter(system, box(DESIGNERS[name]), ys)
-    sets["Carol"] = carol_estimates(system, box(DESIGNERS["Carol"]), ys, example.decomposition())[0]
+    # Carol: Algorithm 2 with the paper's switching time k_* and the example's P (Lemma 1's θ̄ = ∞).
+    sets["Carol"] = ss.oit_inspired_filter(system, box(DESIGNERS["Carol"]), ys,
+                                           decomposition=example.decomposition())
     return sets
 
 
