@@ -43,7 +43,7 @@ def gamma(n: int | np.ndarray) -> np.ndarray:
 
 
 def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray,
-                      lam_min: float | None = None) -> float | None:
+                      lam_min: float | None = None, AF: sp.csc_matrix | None = None) -> float | None:
     """A rigorous bound β ≥ max_{ξ ∈ F} ‖ξ_F‖∞ on the free factors, or None when none is found.
 
     Parameters
@@ -55,6 +55,8 @@ def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray,
         A rigorous lower bound on λ_min(A_FᵀA_F) of the exact data, computed by the caller (e.g. by
         a shifted banded Cholesky for trajectory sets, `setsmooth.trajectories`); replaces the dense
         eigenvalue computation and its size limit.
+    AF : csc_matrix, optional
+        A[:, free] when the caller has it.
 
     Returns
     -------
@@ -73,7 +75,7 @@ def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray,
         return 0.0
     if lam_min is None and free.size > FREE_BOUND_DENSE_MAX:
         return None
-    AF = A[:, free]
+    AF = sp.csc_matrix(A[:, free]) if AF is None else AF
     if lam_min is None:
         gram = (AF.T @ AF).toarray()
         absAF = abs(AF)
@@ -85,10 +87,9 @@ def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray,
     # Only the rows that see a free factor constrain it: A_RF ξ_F = b_R − A_RB ξ_B, and σ_min(A_RF) =
     # σ_min(A_F). So ‖ξ_F‖₂ ≤ ‖ |b_R| + |A_RB| h_B ‖₂ / σ_min(A_F): the other rows (the noises' own
     # constraints, of their factors' scale) would only loosen it.
-    rows = np.unique(AF.indices)
-    fin = np.flatnonzero(np.isfinite(h) & (h > 0))
-    AR = sp.csr_matrix(A)[rows][:, fin]
-    residual = np.abs(b[rows]) + abs(AR) @ h[fin]
+    rows = np.flatnonzero(np.bincount(AF.indices, minlength=A.shape[0]))
+    bounded = np.where(np.isfinite(h), h, 0.0)  # the free columns contribute exact zeros
+    residual = np.abs(b[rows]) + (abs(A) @ bounded)[rows]
     rhs = np.linalg.norm(residual) * (1.0 + gamma(A.shape[1] + 4))
     bound = rhs / np.sqrt(lam_min) * (1.0 + gamma(8))
     return float(bound) if np.isfinite(bound) else None
