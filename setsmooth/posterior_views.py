@@ -35,7 +35,8 @@ class _SharedTrajectories:
         T = ys.shape[0] - 1
         self.n, self.T = system.n, T
         full = _assemble(system, Z0, Zw, Zv, ys, 0, T)
-        self.A = sp.csr_matrix(full.A)  # rows are cut first, then columns
+        self.A = sp.csc_matrix(full.A)  # canonical CSC: a prefix is cut by index arithmetic
+        self.A.sort_indices()
         self.b, self.h, self.nominal = full.b, full.h, full.c.reshape(T + 1, system.n)
         n, m = system.n, system.m
         # The layout of `trajectories._assemble`: columns [states | ξ_Z | ξ_w,0..T−1 | ξ_v,0..T],
@@ -58,24 +59,54 @@ class _SharedTrajectories:
         return np.concatenate([np.arange(start, start + size + k * growth)
                                for start, size, growth in blocks])
 
+    def _cut(self, k: int) -> tuple[sp.csc_matrix, np.ndarray, np.ndarray]:
+        """(A, b, h) of the trajectories 0..k: the rows and columns of times 0..k, in order.
+
+        Cut from the CSC arrays directly (the kept columns' entries, those in kept rows renumbered):
+        scipy's fancy indexing costs more than the posterior's own LPs on short horizons."""
+        rows, cols = self._indices(self._row_blocks, k), self._indices(self._col_blocks, k)
+        A = self.A
+        new_row = np.full(A.shape[0], -1, dtype=np.int64)
+        new_row[rows] = np.arange(rows.size)
+        starts, counts = A.indptr[cols], np.diff(A.indptr)[cols]
+        offsets = np.zeros(cols.size + 1, dtype=np.int64)
+        np.cumsum(counts, out=offsets[1:])
+        entries = np.arange(int(offsets[-1])) + np.repeat(starts - offsets[:-1], counts)
+        renumbered = new_row[A.indices[entries]]
+        kept = renumbered >= 0
+        column = np.repeat(np.arange(cols.size), counts)
+        indptr = np.zeros(cols.size + 1, dtype=np.int64)
+        np.cumsum(np.bincount(column[kept], minlength=cols.size), out=indptr[1:])
+        itype = np.int32 if max(rows.size, int(indptr[-1])) < np.iinfo(np.int32).max else np.int64
+        cut = sp.csc_matrix((A.data[entries[kept]], renumbered[kept].astype(itype),
+                             indptr.astype(itype)), shape=(rows.size, cols.size))
+        cut.has_sorted_indices = True  # rows keep their order, so each column stays sorted
+        return cut, self.b[rows], self.h[cols]
+
     def trajectories(self, k: int) -> ConstrainedZonotope:
         """The trajectory CZ over 0..k: exactly `trajectories._assemble` over 0..k, cut out."""
         from .trajectories import TrajectoryFactors
 
-        rows, cols = self._indices(self._row_blocks, k), self._indices(self._col_blocks, k)
-        A = sp.csc_matrix(self.A[rows][:, cols])
-        A.sort_indices()
-        b, h = self.b[rows], self.h[cols]
+        A, b, h = self._cut(k)
         n_states = self.n * (k + 1)
         G = sp.csc_matrix((np.ones(n_states), (np.arange(n_states), np.arange(n_states))),
-                          shape=(n_states, cols.size))
+                          shape=(n_states, A.shape[1]))
         return ConstrainedZonotope._trusted(G, self.nominal[: k + 1].reshape(-1), A, b, h,
                                             TrajectoryFactors(A, b, h))
 
     def posterior(self, k: int) -> ConstrainedZonotope:
-        """⟦x_k | y_{0:k}⟧: the projection on x_k of the trajectories 0..k."""
-        traj = self.trajectories(k)
-        return traj._project(np.arange(k * self.n, (k + 1) * self.n))
+        """⟦x_k | y_{0:k}⟧: the projection on x_k of the trajectories 0..k (G selects the states
+        of time k, the last n factors of the states' block)."""
+        from .trajectories import TrajectoryFactors
+
+        A, b, h = self._cut(k)
+        n = self.n
+        itype = np.int32 if A.shape[1] < np.iinfo(np.int32).max else np.int64
+        indptr = np.zeros(A.shape[1] + 1, dtype=itype)
+        indptr[k * n + 1:] = np.minimum(np.arange(1, A.shape[1] - k * n + 1), n)
+        G = sp.csc_matrix((np.ones(n), np.arange(n, dtype=itype), indptr), shape=(n, A.shape[1]))
+        return ConstrainedZonotope._trusted(G, self.nominal[k].copy(), A, b, h,
+                                            TrajectoryFactors(A, b, h))
 
 
 class PosteriorView(ConstrainedZonotope):

@@ -129,7 +129,8 @@ def banded_free_factor_bound(A: sp.spmatrix, b: np.ndarray, h: np.ndarray) -> fl
     if free.size == 0:
         return 0.0
     A = sp.csc_matrix(A)
-    lam_min = gram_lower_bound(A[:, free])
+    AF = sp.csc_matrix(A[:, free])
+    lam_min = gram_lower_bound(AF)
     if lam_min is None:
         return None
-    return free_factor_bound(A, b, h, lam_min=lam_min)
+    return free_factor_bound(A, b, h, lam_min=lam_min, AF=AF)

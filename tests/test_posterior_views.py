@@ -87,6 +87,10 @@ def test_a_view_is_exactly_the_trajectory_cz_over_0_to_k():
         assert (sp.csc_matrix(cut.G) != sp.csc_matrix(built.G)).nnz == 0
         for a, b in ((cut.b, built.b), (cut.h, built.h), (cut.c, built.c)):
             np.testing.assert_array_equal(a, b)
+        posterior, last = views[k]._shared.posterior(k), built._project(np.arange(2 * k, 2 * k + 2))
+        assert (sp.csc_matrix(posterior.G) != sp.csc_matrix(last.G)).nnz == 0
+        assert (posterior.A != last.A).nnz == 0 and posterior.G.shape == last.G.shape
+        np.testing.assert_array_equal(posterior.c, last.c)
 
 
 def test_views_are_the_recursion_posteriors_with_cz_noises():

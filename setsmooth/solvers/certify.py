@@ -43,7 +43,7 @@ def gamma(n: int | np.ndarray) -> np.ndarray:
 
 
 def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray,
-                      lam_min: float | None = None) -> float | None:
+                      lam_min: float | None = None, AF: sp.csc_matrix | None = None) -> float | None:
     """A rigorous bound β ≥ max_{ξ ∈ F} ‖ξ_F‖∞ on the free factors, or None when none is found.
 
     Parameters
@@ -55,6 +55,8 @@ def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray,
         A rigorous lower bound on λ_min(A_FᵀA_F) of the exact data, computed by the caller (e.g. by
         a shifted banded Cholesky for trajectory sets, `setsmooth.trajectories`); replaces the dense
         eigenvalue computation and its size limit.
+    AF : csc_matrix, optional
+        A[:, free] when the caller has it.
 
     Returns
     -------
@@ -73,7 +75,7 @@ def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray,
         return 0.0
     if lam_min is None and free.size > FREE_BOUND_DENSE_MAX:
         return None
-    AF = A[:, free]
+    AF = sp.csc_matrix(A[:, free]) if AF is None else AF
     if lam_min is None:
         gram = (AF.T @ AF).toarray()
         absAF = abs(AF)
@@ -85,10 +87,9 @@ def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray,
     # Only the rows that see a free factor constrain it: A_RF ξ_F = b_R − A_RB ξ_B, and σ_min(A_RF) =
     # σ_min(A_F). So ‖ξ_F‖₂ ≤ ‖ |b_R| + |A_RB| h_B ‖₂ / σ_min(A_F): the other rows (the noises' own
     # constraints, of their factors' scale) would only loosen it.
-    rows = np.unique(AF.indices)
-    fin = np.flatnonzero(np.isfinite(h) & (h > 0))
-    AR = sp.csr_matrix(A)[rows][:, fin]
-    residual = np.abs(b[rows]) + abs(AR) @ h[fin]
+    rows = np.flatnonzero(np.bincount(AF.indices, minlength=A.shape[0]))
+    bounded = np.where(np.isfinite(h), h, 0.0)  # the free columns contribute exact zeros
+    residual = np.abs(b[rows]) + (abs(A) @ bounded)[rows]
     rhs = np.linalg.norm(residual) * (1.0 + gamma(A.shape[1] + 4))
     bound = rhs / np.sqrt(lam_min) * (1.0 + gamma(8))
     return float(bound) if np.isfinite(bound) else None
@@ -108,53 +109,66 @@ def normal_solver(AF: sp.csc_matrix):
 
 
 def correct_multipliers(AF: sp.csc_matrix, gF: np.ndarray, lam: np.ndarray,
-                        solve_normal=None) -> np.ndarray:
+                        solve_normal=None, AFt: sp.csr_matrix | None = None) -> np.ndarray:
     """λ + δ with δ the least-norm solution of A_Fᵀδ = g_F − A_Fᵀλ (per row of ``lam``).
 
     The correction is small when the solver's λ nearly cancels the free factors' reduced cost. With
-    ``solve_normal`` (a solver of A_FᵀA_F y = r, `normal_solver`) δ = A_F y, refined once; otherwise
-    by sparse least squares (lsqr), for rank-deficient A_F.
+    ``solve_normal`` (a solver of A_FᵀA_F y = r, `normal_solver`, for one right-hand side per column)
+    δ = A_F y, refined once, for all rows at a time; otherwise by sparse least squares (lsqr), row by
+    row, for rank-deficient A_F. ``AFt`` is A_Fᵀ in CSR form when the caller keeps it.
     """
     if AF.shape[1] == 0:
         return lam
     out = lam.copy()
-    AFt = sp.csr_matrix(AF.T)
+    AFt = sp.csr_matrix(AF.T) if AFt is None else AFt
     AFc = sp.csc_matrix(AF)
-    for i in range(lam.shape[0]):
-        res = gF[i] - AFt @ lam[i]
-        if not np.any(res):
-            continue
-        # Two passes: the second removes what the first left by rounding or stopping tolerance.
-        for _ in range(2):
-            if solve_normal is not None:
-                y = solve_normal(res)
-                if not np.all(np.isfinite(y)):
-                    break
-                delta = AFc @ y
-            else:
-                from scipy.sparse.linalg import lsqr
+    res = gF - np.asarray(AFt @ lam.T).T
+    active = np.any(res != 0, axis=1)
+    # Two passes: the second removes what the first left by rounding or stopping tolerance. A row
+    # stops at its first pass without progress (it keeps the better multiplier).
+    for _ in range(2):
+        rows = np.flatnonzero(active)
+        if rows.size == 0:
+            break
+        if solve_normal is not None:
+            y = np.asarray(solve_normal(np.ascontiguousarray(res[rows].T))).reshape(AF.shape[1], -1)
+            finite = np.all(np.isfinite(y), axis=0)
+            delta = np.asarray(AFc @ np.where(finite, y, 0.0)).T
+        else:
+            from scipy.sparse.linalg import lsqr
 
-                delta = lsqr(AFt, res, atol=1e-15, btol=1e-15, iter_lim=10 * AF.shape[1] + 50)[0]
-            candidate = out[i] + delta
-            new_res = gF[i] - AFt @ candidate
-            if np.abs(new_res).max() >= np.abs(res).max():
-                break  # no progress: keep the better multiplier
-            out[i], res = candidate, new_res
+            finite = np.ones(rows.size, dtype=bool)
+            delta = np.array([lsqr(AFt, res[i], atol=1e-15, btol=1e-15,
+                                   iter_lim=10 * AF.shape[1] + 50)[0] for i in rows])
+        candidate = out[rows] + delta
+        new_res = gF[rows] - np.asarray(AFt @ candidate.T).T
+        progress = finite & (np.abs(new_res).max(axis=1) < np.abs(res[rows]).max(axis=1))
+        better = rows[progress]
+        out[better], res[better] = candidate[progress], new_res[progress]
+        active[rows[~progress]] = False
     return out
 
 
 class Operators:
     """Gᵀ, |G|ᵀ, Aᵀ, |A|ᵀ and the per-column γ factors of one CZ, prepared once for `certified_bound`
-    (scipy's sparse conversions cost more than the bound itself on small sets)."""
+    (scipy's sparse conversions cost more than the bound itself on small sets).
 
-    def __init__(self, G, A: sp.csc_matrix):
+    ``factor_part``: the A-dependent part (`Operators.factor_part`) when the caller keeps it for a
+    factor set shared by many CZs (the projections of one trajectory set)."""
+
+    def __init__(self, G, A: sp.csc_matrix, factor_part: tuple | None = None):
         dense = not sp.issparse(G)
         self.Gt = np.ascontiguousarray(G.T) if dense else sp.csr_matrix(G.T)
         self.absGt = np.abs(self.Gt) if dense else abs(self.Gt)
-        self.At = sp.csr_matrix(A.T)
-        self.absAt = abs(self.At)
+        self.At, self.absAt, self.gamma_cols = (Operators.factor_part(A) if factor_part is None
+                                                else factor_part)
+
+    @staticmethod
+    def factor_part(A: sp.csc_matrix) -> tuple[sp.csr_matrix, sp.csr_matrix, np.ndarray]:
+        """(Aᵀ, |A|ᵀ, γ_{m_j+2} per column): what `certified_bound` needs of the factor set."""
+        At = sp.csr_matrix(A.T)
         col_nnz = np.diff(A.indptr) if A.shape[0] else np.zeros(A.shape[1], dtype=int)
-        self.gamma_cols = gamma(col_nnz + 2)
+        return At, abs(At), gamma(col_nnz + 2)
 
 
 def certified_bound(d: np.ndarray, G, c: np.ndarray, A: sp.csc_matrix, b: np.ndarray,

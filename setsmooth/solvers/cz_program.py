@@ -213,12 +213,15 @@ class CZProgram:
         free = self.factors.free
         bound = 0.0
         if free.size:
-            AF = self.A[:, free]
-            gF = np.asarray((self.G[:, free].T @ D[rows].T).T) if sp.issparse(self.G) \
-                else D[rows] @ self.G[:, free]
+            AF, AFt, _ = self.factors.certificate_operators()
+            GF = self.__dict__.get("_G_free")
+            if GF is None:
+                GF = self.__dict__["_G_free"] = (sp.csr_matrix(self.G[:, free].T)
+                                                 if sp.issparse(self.G) else self.G[:, free])
+            gF = np.asarray((GF @ D[rows].T).T) if sp.issparse(self.G) else D[rows] @ GF
             solve_normal = cached_instance(self.factors, "normal equations of the free factors",
-                                           lambda: normal_solver(sp.csc_matrix(AF)))
-            corrected = correct_multipliers(sp.csc_matrix(AF), gF, lam, solve_normal)
+                                           lambda: normal_solver(AF))
+            corrected = correct_multipliers(AF, gF, lam, solve_normal, AFt)
             bound = self.factors.free_bound()
             if bound is None:
                 # Only exact cancellation certifies then; the solver's λ may have it (small
@@ -232,7 +235,7 @@ class CZProgram:
 
     def _bound(self, D, values, rows, lam, bound):
         if self._ops is None:
-            self._ops = Operators(self.G, self.A)
+            self._ops = Operators(self.G, self.A, self.factors.certificate_operators()[2])
         out = values.copy()
         out[rows] = certified_bound(D[rows], self.G, self.c, self.A, self.b, self.h, lam, bound,
                                     self._ops)

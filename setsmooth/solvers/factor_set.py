@@ -180,6 +180,19 @@ class FactorConstraints:
             self._free_bound = (free_factor_bound(self.A, self.b, self.h),)
         return self._free_bound[0]
 
+    def certificate_operators(self) -> tuple[sp.csc_matrix, sp.csr_matrix, tuple]:
+        """(A_F, A_Fᵀ, `certify.Operators.factor_part`): the factor set's part of a certificate,
+        prepared once and shared by every CZ over this factor set (the projections of one
+        trajectory set each certify against the same A)."""
+        ops = self.__dict__.get("_certificate_ops")
+        if ops is None:
+            from .certify import Operators
+
+            AF = sp.csc_matrix(self.A[:, self.free])
+            ops = self.__dict__["_certificate_ops"] = (AF, sp.csr_matrix(AF.T),
+                                                       Operators.factor_part(self.A))
+        return ops
+
     # -- solving -----------------------------------------------------------------------------------
     def _program(self, pre: Presolved) -> tuple[sp.csc_matrix, np.ndarray, list]:
         """Rows [Â; I_B; −I_B], right-hand sides [b̂; 1; 1] and cones of the presolved program."""
@@ -372,7 +385,7 @@ class FactorConstraints:
         ``SOLVER_CHECK_TOL`` of the scale (rows and objective have unit ∞-norm, bounds are 1).
         Returns the relative gap, or None when the check fails."""
         lam = z  # Clarabel's stationarity q + Âᵀz = 0 on the free factors: λ̂ = z
-        reduced = -q - pre.A.T @ lam
+        reduced = -q - pre.At @ lam
         if np.abs(reduced[~pre.bounded]).max(initial=0.0) > tol.REDUCED_COST_TOL:
             return None
         primal = float(-q @ eta)

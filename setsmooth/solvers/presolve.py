@@ -30,6 +30,7 @@ program for the objective ĝ/σ maps back to λ = σ R ẑ for the original one 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
@@ -85,17 +86,29 @@ class Presolved:
     empty: bool
     dependent_checked: bool
 
-    @property
+    @cached_property
     def has_free(self) -> bool:
         """Whether some kept factor is free (h = ∞)."""
         return not bool(self.bounded.all())
 
+    @cached_property
+    def At(self) -> sp.csr_matrix:
+        """Âᵀ, kept: a transpose per solve costs more than its product on small programs."""
+        return sp.csr_matrix(self.A.T)
+
+    @cached_property
+    def _free_rows(self) -> tuple[np.ndarray, sp.csr_matrix]:
+        """The free factors' indices and their rows of Âᵀ."""
+        free = np.flatnonzero(~self.bounded)
+        return free, sp.csr_matrix(self.At[free])
+
     def free_residual(self, q: np.ndarray, z: np.ndarray) -> float:
         """max_j free |q_j + (Âᵀz)_j|: how far z is from cancelling the objective q on the free
         factors (0 without free factors)."""
-        if self.bounded.all():
+        if not self.has_free:
             return 0.0
-        return float(np.abs(q + self.A.T @ z)[~self.bounded].max(initial=0.0))
+        free, AFt = self._free_rows
+        return float(np.abs(q[free] + AFt @ z).max(initial=0.0))
 
     def objective(self, g: np.ndarray) -> np.ndarray:
         """ĝ = S g[cols] for objectives ``g`` of the original factors (rows of a (k, ng) array)."""

@@ -83,6 +83,24 @@ def test_the_free_factor_bound_encloses_the_determined_free_factors():
     assert certify.free_factor_bound(A2, np.zeros(1), np.array([1.0, np.inf, np.inf])) is None
 
 
+def test_multipliers_of_a_hull_are_corrected_together_as_one_by_one():
+    # A_F of full column rank (8 rows, 5 free factors): the least-norm correction cancels the free
+    # factors' reduced cost to rounding, for every direction at once as for each alone, and agrees
+    # with the rank-revealing least-squares path (lsqr).
+    rng = np.random.default_rng(5)
+    AF = sp.csc_matrix(sp.random(8, 5, density=0.5, random_state=6) + sp.eye(8, 5))
+    gF, lam = rng.standard_normal((6, 5)), rng.standard_normal((6, 8))
+    lam[2] = np.linalg.lstsq(AF.toarray().T, gF[2], rcond=None)[0]  # already cancelling
+    solve = certify.normal_solver(AF)
+    together = certify.correct_multipliers(AF, gF, lam, solve)
+    alone = np.vstack([certify.correct_multipliers(AF, gF[i:i + 1], lam[i:i + 1], solve)
+                       for i in range(6)])
+    by_lsqr = certify.correct_multipliers(AF, gF, lam)
+    np.testing.assert_allclose(together, alone, rtol=0, atol=1e-13)
+    for corrected in (together, by_lsqr):
+        assert np.abs(corrected @ AF.toarray() - gF).max() < 1e-12
+
+
 def test_a_certified_value_with_undetermined_free_factors_needs_exact_cancellation():
     # A strip {(s + ξ3, s)}: bounded exactly in the directions ±(1, −1), certified there.
     Z = ss.ConstrainedZonotope([[1.0, 0.0, 1.0], [0.0, 1.0, 0.0]], [0.1, -0.2],
