@@ -185,12 +185,16 @@ class CZProgram:
             absG = abs(self.G) if sp.issparse(self.G) else np.abs(self.G)
             magnitude = np.asarray((absG.T @ np.abs(D).T).T) * (1 + self.G.shape[0])
         context = "computing a support function of a constrained zonotope"
+        # `_verified` brackets every answer by a certified bound where one exists and escalates the
+        # loose ones: the first verified answer is enough then (the escalation itself searches on).
+        bracketed = not escalate and (self.factors.free.size == 0
+                                      or self.factors.free_bound() is not None)
         start = time.perf_counter()
         try:
             for i in range(k):
                 res = self.factors.maximize(GtD[i], context, magnitude=magnitude[i],
                                             unverified=certified, tight=tight,
-                                            escalate=escalate)
+                                            escalate=escalate, bracketed=bracketed)
                 if res.status == "infeasible":
                     return np.full(k, -np.inf), points, xis, lams
                 if res.status == "unbounded":
