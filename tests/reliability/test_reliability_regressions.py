@@ -1,4 +1,4 @@
-"""Regression tests of the fast path's solver policy on the reliability suite's hard cases.
+"""Regressions found by the large reliability run (seed 2026, T = 10..40), each at its smallest size.
 
 Reliability case 000 (n = 6, stable, box noises): the recursion smoother's sets hold copies of the
 same posterior factors linked by the states, and on half their directions Clarabel stops at
@@ -10,11 +10,14 @@ such direction went through the refined solve, the same program again as the 'fu
 
 from __future__ import annotations
 
+import numpy as np
+
 import setsmooth as ss
 from setsmooth.solvers import factor_set
 
-from .compare import compare_case, describe
-from .random_systems import base_case
+from .compare import ENCLOSE_TOL, TrajectoryOracle, compare_case, confirm_by_witnesses, describe
+from .oracle import data_scale
+from .random_systems import base_case, in_regime
 
 
 def test_recursion_smoother_settles_a_verified_direction_with_its_first_solve(monkeypatch):
@@ -52,3 +55,26 @@ def test_recursion_smoother_hulls_are_exact_on_the_hard_case():
     case = base_case(2026, 0, T_range=(12, 12))
     result = compare_case(case, estimators=("recursion",))
     assert not result.failed, describe(result)
+
+
+def test_certified_filter_hulls_enclose_the_exact_ones_far_from_the_origin_at_tiny_noise():
+    """Case 001 (unstable, T = 37) at noise 1e-6: x_37 sits ~130 σ from the origin and the oracle's
+    HiGHS value (tolerance 1e-10 on unit factors) was 5e-14 above a feasible witness's coordinate,
+    so a sound certified bound between them counted as 'not enclosing'. Scored against the
+    witness, the certified hulls enclose."""
+    case = in_regime(base_case(2026, 1), "scale1e-06")
+    result = compare_case(case, estimators=("filter",))
+    assert not result.failed, describe(result)
+
+
+def test_witness_confirmation_keeps_a_truly_unsound_certified_bound():
+    case = base_case(2026, 2, T_range=(10, 10), n_range=(2, 3))
+    oracle = TrajectoryOracle(case.system, case.X0, case.ys)
+    lo, hi = oracle.filtered_hulls()
+    width = hi - lo
+    shrunk = [(lo[k] + 1e-3 * width[k], hi[k] - 1e-3 * width[k]) for k in range(lo.shape[0])]
+    sigma = data_scale(case.system, case.X0)
+    confirmed_lo, confirmed_hi = confirm_by_witnesses(oracle, True, (lo, hi), shrunk, sigma)
+    inside = np.maximum(np.array([c[0] for c in shrunk]) - confirmed_lo,
+                        confirmed_hi - np.array([c[1] for c in shrunk]))
+    assert np.all(inside > ENCLOSE_TOL * (width + sigma))
