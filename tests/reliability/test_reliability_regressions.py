@@ -11,12 +11,14 @@ such direction went through the refined solve, the same program again as the 'fu
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
 
 import setsmooth as ss
 from setsmooth.solvers import factor_set
+from setsmooth.solvers.presolve import presolve
 
 from .compare import ENCLOSE_TOL, TrajectoryOracle, compare_case, confirm_by_witnesses, describe
-from .oracle import data_scale
+from .oracle import FactorForm, cz_support, data_scale
 from .random_systems import base_case, in_regime
 
 
@@ -78,3 +80,35 @@ def test_witness_confirmation_keeps_a_truly_unsound_certified_bound():
     inside = np.maximum(np.array([c[0] for c in shrunk]) - confirmed_lo,
                         confirmed_hi - np.array([c[1] for c in shrunk]))
     assert np.all(inside > ENCLOSE_TOL * (width + sigma))
+
+
+def test_a_free_factor_seen_only_by_a_noise_free_row_takes_its_neighbours_units():
+    """Case 015 (CZ noises) at noise 1e-6: a state component that neither B·W nor C reaches sits
+    in one dynamics row with other states only. The equilibration left it at its raw scale, 1e-7
+    of the others', below the solvers' absolute tolerances: filtered hulls 3.8e-3 of the width
+    off, certified ones 9e-3 loose."""
+    eps = 1e-6
+    # ξ_0, ξ_1 bounded (|ξ| ≤ 1); x_0 = eps·(ξ_0 + 0.5 ξ_1) anchored by a row with bounded
+    # entries; x_1 = 0.3 x_0 seen only by the free-only row x_1 − 0.3 x_0 = 0.
+    A = np.array([[eps, 0.5 * eps, -1.0, 0.0],
+                  [0.0, 0.0, -0.3, 1.0]])
+    b = np.array([0.2 * eps, 0.0])
+    h = np.array([1.0, 1.0, np.inf, np.inf])
+    pre = presolve(sp.csc_matrix(A), b, h, dependent=False)
+    # x_1 in the bounded factors' units: of the same order as x_0, not 1e6 times larger
+    assert 0.1 < pre.col_scale[3] / pre.col_scale[2] < 10
+    G = np.array([[0.0, 0.0, 0.0, 1.0]])
+    Z = ss.ConstrainedZonotope(G, np.zeros(1), A, b, h)
+    exact = [cz_support(FactorForm(G, np.zeros(1), A, b, h), d)[0] for d in ([1.0], [-1.0])]
+    plain = Z.support_many(np.array([[1.0], [-1.0]]), certified=False)
+    certified = Z.support_many(np.array([[1.0], [-1.0]]), certified=True)
+    width = exact[0] + exact[1]
+    assert np.allclose(plain, exact, rtol=0, atol=1e-6 * width)
+    assert np.all(certified >= np.array(exact) - 1e-12 * width)
+    assert np.allclose(certified, exact, rtol=0, atol=1e-6 * width)
+
+
+def test_filter_hulls_are_exact_with_a_state_no_noise_reaches_at_tiny_noise():
+    case = in_regime(base_case(2026, 15), "scale1e-06")
+    result = compare_case(case, estimators=("filter",))
+    assert not result.failed, describe(result)
