@@ -13,7 +13,9 @@ Every answer, certified or not, is checked a posteriori (`CZProgram._verified`):
 solver's value L of the same solve bracket h_Z(d), so U − L bounds the error of both; a bracket wider
 than ``SUPPORT_GAP_TOL`` of the set's width along d is solved again by the simplex method. Interior-
 point answers that stop early (a loose dual on badly scaled free factors) are caught this way rather
-than returned as silently wrong numbers.
+than returned as silently wrong numbers; and since this check decides, the first solve's answer is
+taken as soon as it passes the factor set's independent check (``bracketed``), without the
+fallbacks' search for a tighter one.
 """
 
 from __future__ import annotations

@@ -10,11 +10,13 @@ queried from several threads and pickled.
 
 Status policy (`maximize`): 'Solved' is taken; any other status is settled by a verified fallback
 before anything is raised: a fresh solve with iterative refinement, then, if the presolve had not looked
-for dependent rows, the fully presolved program, and last HiGHS's simplex method (SciPy) on it. A
-reduced-accuracy answer ('AlmostSolved', and every simplex answer) is used only after an independent
-check in the presolved units: the primal point's residual and bound overshoot and its gap to the
-always-valid weak-duality bound, within ``SOLVER_CHECK_TOL`` of the scale; one with a gap above
-``ACCURATE_GAP_TOL`` is kept while the later fallbacks look for a tighter one. Infeasible statuses are
+for dependent rows, the fully presolved program (when it dropped some), and last HiGHS's simplex
+method (SciPy) on it. A reduced-accuracy answer ('AlmostSolved', and every simplex answer) is used
+only after an independent check in the presolved units: the primal point's residual and bound
+overshoot and its gap to the always-valid weak-duality bound, within ``SOLVER_CHECK_TOL`` of the
+scale; one with a gap above
+``ACCURATE_GAP_TOL`` is kept while the later fallbacks look for a tighter one, unless the caller
+brackets it by a certified bound itself (``bracketed``, `CZProgram`). Infeasible statuses are
 settled by the emptiness verdict below; unbounded ones, and solutions whose multipliers do not cancel
 the objective on free factors, by a recession program.
 
