@@ -15,8 +15,8 @@ method (SciPy) on it. A reduced-accuracy answer ('AlmostSolved', and every simpl
 only after an independent check in the presolved units: the primal point's residual and bound
 overshoot and its gap to the always-valid weak-duality bound, within ``SOLVER_CHECK_TOL`` of the
 scale; one with a gap above
-``ACCURATE_GAP_TOL`` is kept while the later fallbacks look for a tighter one, unless the caller
-brackets it by a certified bound itself (``bracketed``, `CZProgram`). Infeasible statuses are
+``ACCURATE_GAP_TOL`` is kept while the later fallbacks look for a tighter one (a caller that brackets
+the answer itself, ``bracketed``, skips the refined re-solve). Infeasible statuses are
 settled by the emptiness verdict below; unbounded ones, and solutions whose multipliers do not cancel
 the objective on free factors, by a recession program.
 
@@ -268,12 +268,13 @@ class FactorConstraints:
             a-posteriori check (`CZProgram`: certified bound against primal value).
         bracketed : bool
             The caller brackets the answer by a rigorous bound and escalates it when the bracket is
-            loose (`CZProgram._verified`): a reduced-accuracy answer that passes the independent
-            check is returned at once instead of being kept while the fallbacks look for a tighter
-            one. On degenerate programs (the recursion smoother's sets) the interior-point method
-            stalls at a relative gap of 1e-8..1e-7 on half the directions, the refined re-solve
-            stalls at the same point, and the cascade to the simplex method cost three solves per
-            direction whose first answer was already within the bracket the caller demands.
+            loose (`CZProgram._verified`): a rough interior-point answer goes straight to the
+            simplex method, without the refined re-solve. On degenerate programs (the recursion
+            smoother's sets: copies of the posterior factors linked by the states) the interior-
+            point method stalls at 'AlmostSolved' with duals off by ~1e-6 on half the directions
+            and the refined solve stalls at the same point. (Returning the rough answer for the
+            bracket to judge is not enough: the bracket's rounding floor, 2⁻⁴⁰ of the values'
+            magnitude, lets a loose dual through at offset 1e6, certified hulls 1.3e-6 off.)
 
         Raises
         ------
@@ -290,6 +291,8 @@ class FactorConstraints:
             # The simplex method first: a vertex and exact-to-rounding multipliers, where the
             # interior-point method stopped with a loose dual (badly scaled free factors).
             attempts = [(first, "simplex"), (first, True)]
+        elif bracketed:
+            attempts = [(first, False)]
         else:
             attempts = [(first, False), (first, True)]
         if not first.dependent_checked:
@@ -360,7 +363,7 @@ class FactorConstraints:
             if gap is not None:
                 answer = Maximized("optimal", pre.factors(eta[None], self.ng)[0],
                                    pre.multipliers((z + lam0)[None], np.array([sigma]), self.nc)[0])
-                if gap <= tol.ACCURATE_GAP_TOL or bracketed:
+                if gap <= tol.ACCURATE_GAP_TOL:
                     return answer
                 # Verified but loose: kept, while the fallbacks try for a tighter answer.
                 if best is None or gap < best[0]:
