@@ -13,7 +13,8 @@ Every answer, certified or not, is checked a posteriori (`CZProgram._verified`):
 solver's value L of the same solve bracket h_Z(d), so U − L bounds the error of both; a bracket wider
 than ``SUPPORT_GAP_TOL`` of the set's width along d is solved again by the simplex method. Interior-
 point answers that stop early (a loose dual on badly scaled free factors) are caught this way rather
-than returned as silently wrong numbers.
+than returned as silently wrong numbers; and since this check decides, a rough first answer goes
+straight to the simplex method (``bracketed``), without the refined interior-point re-solve.
 """
 
 from __future__ import annotations
@@ -185,12 +186,16 @@ class CZProgram:
             absG = abs(self.G) if sp.issparse(self.G) else np.abs(self.G)
             magnitude = np.asarray((absG.T @ np.abs(D).T).T) * (1 + self.G.shape[0])
         context = "computing a support function of a constrained zonotope"
+        # `_verified` brackets every answer by a certified bound where one exists and escalates the
+        # loose ones: a rough answer goes straight to the simplex method then.
+        bracketed = not escalate and (self.factors.free.size == 0
+                                      or self.factors.free_bound() is not None)
         start = time.perf_counter()
         try:
             for i in range(k):
                 res = self.factors.maximize(GtD[i], context, magnitude=magnitude[i],
                                             unverified=certified, tight=tight,
-                                            escalate=escalate)
+                                            escalate=escalate, bracketed=bracketed)
                 if res.status == "infeasible":
                     return np.full(k, -np.inf), points, xis, lams
                 if res.status == "unbounded":

@@ -10,11 +10,13 @@ queried from several threads and pickled.
 
 Status policy (`maximize`): 'Solved' is taken; any other status is settled by a verified fallback
 before anything is raised: a fresh solve with iterative refinement, then, if the presolve had not looked
-for dependent rows, the fully presolved program, and last HiGHS's simplex method (SciPy) on it. A
-reduced-accuracy answer ('AlmostSolved', and every simplex answer) is used only after an independent
-check in the presolved units: the primal point's residual and bound overshoot and its gap to the
-always-valid weak-duality bound, within ``SOLVER_CHECK_TOL`` of the scale; one with a gap above
-``ACCURATE_GAP_TOL`` is kept while the later fallbacks look for a tighter one. Infeasible statuses are
+for dependent rows, the fully presolved program (when it dropped some), and last HiGHS's simplex
+method (SciPy) on it. A reduced-accuracy answer ('AlmostSolved', and every simplex answer) is used
+only after an independent check in the presolved units: the primal point's residual and bound
+overshoot and its gap to the always-valid weak-duality bound, within ``SOLVER_CHECK_TOL`` of the
+scale; one with a gap above
+``ACCURATE_GAP_TOL`` is kept while the later fallbacks look for a tighter one (a caller that brackets
+the answer itself, ``bracketed``, skips the refined re-solve). Infeasible statuses are
 settled by the emptiness verdict below; unbounded ones, and solutions whose multipliers do not cancel
 the objective on free factors, by a recession program.
 
@@ -252,7 +254,8 @@ class FactorConstraints:
 
     def maximize(self, g: np.ndarray, context: str, kind: str = "support", *,
                  magnitude: np.ndarray | None = None, unverified: bool = False,
-                 tight: bool = False, escalate: bool = False) -> Maximized:
+                 tight: bool = False, escalate: bool = False,
+                 bracketed: bool = False) -> Maximized:
         """Maximize gᵀξ over the factor set (status policy in the module docstring).
 
         Parameters
@@ -276,6 +279,15 @@ class FactorConstraints:
             Skip the kept instance and start with HiGHS's simplex method, then a fresh instance
             with iterative refinement: for a program whose first answer failed the caller's
             a-posteriori check (`CZProgram`: certified bound against primal value).
+        bracketed : bool
+            The caller brackets the answer by a rigorous bound and escalates it when the bracket is
+            loose (`CZProgram._verified`): a rough interior-point answer goes straight to the
+            simplex method, without the refined re-solve. On degenerate programs (the recursion
+            smoother's sets: copies of the posterior factors linked by the states) the interior-
+            point method stalls at 'AlmostSolved' with duals off by ~1e-6 on half the directions
+            and the refined solve stalls at the same point. (Returning the rough answer for the
+            bracket to judge is not enough: the bracket's rounding floor, 2⁻⁴⁰ of the values'
+            magnitude, lets a loose dual through at offset 1e6, certified hulls 1.3e-6 off.)
 
         Raises
         ------
@@ -292,6 +304,8 @@ class FactorConstraints:
             # The simplex method first: a vertex and exact-to-rounding multipliers, where the
             # interior-point method stopped with a loose dual (badly scaled free factors).
             attempts = [(first, "simplex"), (first, True)]
+        elif bracketed:
+            attempts = [(first, False)]
         else:
             attempts = [(first, False), (first, True)]
         if not first.dependent_checked:
@@ -303,7 +317,10 @@ class FactorConstraints:
         rough: Maximized | None = None  # the last unverified one (for certificates only)
         bounded = None  # the recession program's verdict on g, computed at most once
         for pre, refine in attempts:
-            pre = self.fully_presolved if pre is None else pre
+            if pre is None:
+                pre = self.fully_presolved
+                if refine is True and pre.rows.size == first.rows.size and not pre.empty:
+                    continue  # no dependent row found: the refined solve was just tried
             if pre.empty:
                 self._empty = True
                 return Maximized("infeasible", nan_xi, nan_lam)
@@ -353,17 +370,17 @@ class FactorConstraints:
                         return Maximized("infeasible", nan_xi, nan_lam)
                     return self._relaxed(pre, q, sigma, lam0)
                 leak = pre.free_residual(q, z)
+            gap = None
             if leak <= tol.REDUCED_COST_TOL and name in ("Solved", "AlmostSolved"):
                 gap = 0.0 if name == "Solved" else self._checked_gap(pre, q, eta, z)
-                if gap is not None:
-                    answer = Maximized("optimal", pre.factors(eta[None], self.ng)[0],
-                                       pre.multipliers((z + lam0)[None], np.array([sigma]),
-                                                       self.nc)[0])
-                    if gap <= tol.ACCURATE_GAP_TOL:
-                        return answer
-                    # Verified but loose: kept, while the fallbacks try for a tighter answer.
-                    if best is None or gap < best[0]:
-                        best = (gap, answer)
+            if gap is not None:
+                answer = Maximized("optimal", pre.factors(eta[None], self.ng)[0],
+                                   pre.multipliers((z + lam0)[None], np.array([sigma]), self.nc)[0])
+                if gap <= tol.ACCURATE_GAP_TOL:
+                    return answer
+                # Verified but loose: kept, while the fallbacks try for a tighter answer.
+                if best is None or gap < best[0]:
+                    best = (gap, answer)
             last = name
             if np.all(np.isfinite(z)) and np.all(np.isfinite(eta)) and name not in _UNBOUNDED:
                 rough = Maximized("unverified", pre.factors(eta[None], self.ng)[0],
@@ -449,7 +466,10 @@ class FactorConstraints:
             attempts.append((None, True))
         last = "Unknown"
         for pre, refine in attempts:
-            pre = self.fully_presolved if pre is None else pre
+            if pre is None:
+                pre = self.fully_presolved
+                if refine is True and pre.rows.size == first.rows.size and not pre.empty:
+                    continue  # no dependent row found: the refined solve was just tried
             if pre.empty:
                 return True
             m, p = pre.A.shape

@@ -182,6 +182,14 @@ def presolve(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray, *, dependent: bool)
         M.data *= s[col_of]
         col_scale = col_scale * s
         floating = free & ~anchored  # free factors seen by free-only rows only
+        for _ in range(RUIZ_SWEEPS):
+            if not floating.any():
+                break
+            s = _neighbour_units(M, col_of, floating)
+            floating &= ~(s > 0)
+            s = np.where(s > 0, s, 1.0)
+            M.data *= s[col_of]
+            col_scale = col_scale * s
         for sweep in range(RUIZ_SWEEPS + 1 if only_free.any() else 0):
             r = np.where(only_free, _inverse(_row_abs_max(M)), 1.0)
             M.data *= r[M.indices]
@@ -204,6 +212,30 @@ def presolve(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray, *, dependent: bool)
         rows = rows[basis.keep]
     Mr = sp.csc_matrix(M[rows]) if rows.size < nc else M
     return Presolved(Mr, bs[rows], rows, cols, row_scale[rows], col_scale, bounded, empty, dependent)
+
+
+def _neighbour_units(M: sp.csc_matrix, col_of: np.ndarray, floating: np.ndarray) -> np.ndarray:
+    """Column scales that put each floating free factor in the units of its scaled neighbours.
+
+    A floating factor ξ_j (a state seen only by dynamics rows without noise, such as a state
+    component that neither B·W nor the measurement reaches) is fixed by a row
+    a_j ξ_j + Σ_i a_i ξ_i = b with ξ_i already in unit scale, so |ξ_j| ≈ max_i |a_i| / |a_j|: the
+    scale s_j = min over its rows of that ratio makes the entry a_j s_j no larger than its row's
+    other entries. Without it the alternating equilibration settles with the floating column at its
+    raw scale (the row's largest entry, so unit row and column norms): at noise scale 1e-6 such a
+    state is 1e-7 in the solver's units, below Clarabel's and HiGHS's absolute tolerances
+    (reliability case 015: filtered hulls 3.8e-3 of the width off, certified ones 9e-3 loose).
+    Returns 0 for a column none of whose rows has a non-floating entry (left to the sweeps).
+    """
+    values = np.abs(M.data)
+    rows = M.indices
+    neighbour = np.zeros(M.shape[0])
+    settled = ~floating[col_of]
+    np.maximum.at(neighbour, rows[settled], values[settled])
+    ratio = np.full(M.shape[1], np.inf)
+    mine = floating[col_of] & (neighbour[rows] > 0) & (values > 0)
+    np.minimum.at(ratio, col_of[mine], neighbour[rows[mine]] / values[mine])
+    return np.where(np.isfinite(ratio), ratio, 0.0)
 
 
 def _well_conditioned(M: sp.csc_matrix, rows: np.ndarray) -> bool:
