@@ -149,3 +149,23 @@ def test_a_support_solution_carries_a_feasible_factor_vector_and_its_multipliers
     assert sol.value <= bound <= sol.value + 1e-7
     free = ss.ConstrainedZonotope(G, np.zeros(3)).support_solution(d)  # closed form, nc = 0
     assert free.value == pytest.approx(d @ G @ free.factors) and free.multipliers.size == 0
+
+
+def test_a_certified_bound_far_from_the_origin_is_tight_to_the_width_and_above_the_exact_value():
+    # Each sum's rounding is charged by its own length: a centre 1.9e6 from the origin with ~1500
+    # factors once cost γ_1500·|d|ᵀ|c| ≈ 6e-7 (1e-6 of a unit width); per sum it is γ_n·|d|ᵀ|c|.
+    from fractions import Fraction
+
+    rng = np.random.default_rng(3)
+    n, ng = 3, 1500
+    G = rng.uniform(-1.0, 1.0, size=(n, ng)) / ng
+    c = rng.uniform(1.8e6, 2.0e6, size=n)
+    A, b, h = sp.csc_matrix((0, ng)), np.zeros(0), np.ones(ng)
+    d = rng.standard_normal((4, n))
+    bound = certify.certified_bound(d, G, c, A, b, h, np.zeros((4, 0)), None)
+    for i in range(4):
+        exact = sum(Fraction(float(di)) * Fraction(float(ci)) for di, ci in zip(d[i], c)) + sum(
+            abs(sum(Fraction(float(d[i, r])) * Fraction(float(G[r, j])) for r in range(n))) for j in range(ng))
+        width = 2.0 * float(np.abs(d[i] @ G).sum())
+        assert Fraction(float(bound[i])) >= exact
+        assert float(Fraction(float(bound[i])) - exact) <= 1e-8 * width
