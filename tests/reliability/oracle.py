@@ -242,10 +242,18 @@ class _WarmLP:
     """
 
     def __init__(self, E: np.ndarray, f: np.ndarray, bounds: np.ndarray):
-        self.h = highspy.Highs()
-        self.h.setOptionValue("output_flag", False)
-        for key, value in {**HIGHS_OPTIONS, **_WARM_OPTIONS}.items():
-            self.h.setOptionValue(key, value)
+        self.E, self.bounds = E, bounds
+        self.h = self._model(E, f, bounds, {**HIGHS_OPTIONS, **_WARM_OPTIONS})
+        self.f = f
+        self.active = np.ones(E.shape[0], dtype=bool)
+        self.n = E.shape[1]
+
+    @staticmethod
+    def _model(E: np.ndarray, f: np.ndarray, bounds: np.ndarray, options: dict):
+        h = highspy.Highs()
+        h.setOptionValue("output_flag", False)
+        for key, value in options.items():
+            h.setOptionValue(key, value)
         inf = highspy.kHighsInf
         lp = highspy.HighsLp()
         lp.num_col_, lp.num_row_ = E.shape[1], E.shape[0]
@@ -260,10 +268,8 @@ class _WarmLP:
         lp.a_matrix_.index_ = A.indices
         lp.a_matrix_.value_ = A.data
         lp.sense_ = highspy.ObjSense.kMaximize
-        self.h.passModel(lp)
-        self.f = f
-        self.active = np.ones(E.shape[0], dtype=bool)
-        self.n = E.shape[1]
+        h.passModel(lp)
+        return h
 
     def activate(self, active: np.ndarray) -> None:
         change = np.flatnonzero(active != self.active)
@@ -286,7 +292,17 @@ class _WarmLP:
                 return None
             # A warm start can stall ('Unknown'); the second attempt starts from scratch.
             self.h.clearSolver()
-        raise OracleError(f"HiGHS status {self.h.modelStatusToString(status)} ({context})")
+        # Last: a separate cold model of the active rows with HiGHS's presolve on (the warm model has
+        # it off; on some singular-A trajectory LPs that model stalled or misread infeasibility).
+        cold = self._model(self.E[self.active], self.f[self.active], self.bounds, HIGHS_OPTIONS)
+        cold.changeColsCost(self.n, np.arange(self.n, dtype=np.int32), c)
+        cold.run()
+        status = cold.getModelStatus()
+        if status == highspy.HighsModelStatus.kOptimal:
+            return np.array(cold.getSolution().col_value)
+        if status == highspy.HighsModelStatus.kUnbounded:
+            return None
+        raise OracleError(f"HiGHS status {cold.modelStatusToString(status)} ({context})")
 
 
 def polish(E: np.ndarray, f: np.ndarray, bounds: np.ndarray, eta: np.ndarray) -> np.ndarray:
