@@ -174,6 +174,12 @@ class FactorConstraints:
             return self.free_bound()
         return None
 
+    def _fully_presolved_if_new(self, first: Presolved) -> Presolved | None:
+        """`fully_presolved` when it differs from ``first`` (dependent rows dropped, or found
+        empty), else None: an interior-point solve of it would repeat one of ``first``."""
+        pre = self.fully_presolved
+        return None if pre.rows.size == first.rows.size and not pre.empty else pre
+
     def free_bound(self) -> float | None:
         """β ≥ ‖ξ_F‖∞ on the free factors (`certify.free_factor_bound`; cached), or None."""
         if self._free_bound is None:
@@ -318,9 +324,9 @@ class FactorConstraints:
         bounded = None  # the recession program's verdict on g, computed at most once
         for pre, refine in attempts:
             if pre is None:
-                pre = self.fully_presolved
-                if refine is True and pre.rows.size == first.rows.size and not pre.empty:
-                    continue  # no dependent row found: the refined solve was just tried
+                pre = self._fully_presolved_if_new(first) if refine is True else self.fully_presolved
+                if pre is None:
+                    continue
             if pre.empty:
                 self._empty = True
                 return Maximized("infeasible", nan_xi, nan_lam)
@@ -467,9 +473,9 @@ class FactorConstraints:
         last = "Unknown"
         for pre, refine in attempts:
             if pre is None:
-                pre = self.fully_presolved
-                if refine is True and pre.rows.size == first.rows.size and not pre.empty:
-                    continue  # no dependent row found: the refined solve was just tried
+                pre = self._fully_presolved_if_new(first) if refine is True else self.fully_presolved
+                if pre is None:
+                    continue
             if pre.empty:
                 return True
             m, p = pre.A.shape
