@@ -193,22 +193,43 @@ class ConvexSet(AlgebraHooks, ExtensionPoints, SetRelations, ABC):
         key = (self._check_path(path), certified)
         hulls = self.__dict__.setdefault("_interval_hulls", {})
         hull = hulls.get(key)
+        if hull is None and key[0] == "auto" and certified is not True:
+            # One set of solves gives the solver's values and their certified bounds: keep both.
+            for flag, shared in (self._interval_hulls_at_once() or {}).items():
+                hulls.setdefault(("auto", flag), shared)
+            hull = hulls.get(key)
         if hull is None:
             hull = hulls[key] = self._interval_hull(*key)
+            if key == ("auto", True):
+                hulls.setdefault(("auto", None), hull)  # certified where available: it is
         return hull
 
-    def _interval_hull(self, path: str, certified: bool) -> "Box | ConvexSet":
+    def _interval_hulls_at_once(self) -> "dict | None":
+        """Hook: the fast path's interval hulls for several values of ``certified`` (keys False,
+        None and, where a sound bound exists, True) from one set of solves, or None. Default: the
+        CZ form's, when the support function is the CZ's (no closed form of the set's own)."""
+        if type(self)._support is not ConvexSet._support or overrides(self, "support_function"):
+            return None
+        cz = self._flat_cz
+        return cz._interval_hulls_at_once() if cz is not None and cz is not self else None
+
+    @staticmethod
+    def _box_of_supports(values: np.ndarray, dim: int) -> "Box | ConvexSet":
+        """The box of support values along (e_1..e_n, −e_1..−e_n); the empty set for −inf."""
         from .box import Box
         from .empty import EmptySet
 
+        hi, lo = values[:dim], -values[dim:]
+        if np.isneginf(hi).any():
+            return EmptySet(dim)
+        return Box._trusted(lo, np.maximum(hi, lo))
+
+    def _interval_hull(self, path: str, certified: bool) -> "Box | ConvexSet":
         if certified is None and (self._check_path(path) != "auto" or self._flat_cz is None):
             certified = False
         eye = np.eye(self.dim)
         values = self.support_many(np.vstack([eye, -eye]), path=path, certified=certified)
-        hi, lo = values[: self.dim], -values[self.dim:]
-        if np.isneginf(hi).any():
-            return EmptySet(self.dim)
-        return Box._trusted(lo, np.maximum(hi, lo))
+        return self._box_of_supports(values, self.dim)
 
     def diameter(self, *, path: str = "auto", certified: bool | None = None) -> float:
         """∞-norm diameter sup_{s,s'∈S} ‖s − s'‖∞: the widest edge of the interval hull.

@@ -154,6 +154,20 @@ class ConstrainedZonotope(ConvexSet):
             return self._unconstrained_support(D)
         return self._program.support(D, certified)
 
+    def _interval_hulls_at_once(self) -> dict | None:
+        # The plain hull's solves also certify it (`CZProgram.support_and_bounds`): computing one
+        # keeps the other, half the LPs where both are asked for (the reliability comparisons).
+        if self.nc == 0:
+            return None  # closed form
+        eye = np.eye(self.dim)
+        values, bounds = self._program.support_and_bounds(np.vstack([eye, -eye]))
+        hulls = {False: self._box_of_supports(values, self.dim)}
+        if bounds is None:
+            hulls[None] = hulls[False]
+        else:
+            hulls[None] = hulls[True] = self._box_of_supports(bounds, self.dim)
+        return hulls
+
     def support_solution(self, d: Any) -> SupportSolution:
         """The support value of direction ``d`` with its maximizer, factor vector and multipliers.
 

@@ -105,6 +105,13 @@ class CZProgram:
             return values, points
         return bounds, points
 
+    def support_and_bounds(self, D: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+        """The solver's support values (as ``support(D)``) and, from the same solves, their
+        certified bounds (as ``support(D, certified=None)`` where a sound bound exists), or None
+        for the bounds when there is none."""
+        (values, _, _, _), bounds = self._verified(D, self._solve(D, False, True), False)
+        return values, bounds
+
     def _verified(self, D: np.ndarray, solved: tuple, must_certify: bool):
         """The a-posteriori check of every value of ``solved`` = (values, points, factors,
         multipliers) from `_solve`: returns the checked quadruple and the certified bounds (or None).
