@@ -4,9 +4,12 @@
                                      [--witness K] [--long-horizon L] [--horizon T]
                                      [--T-range MIN MAX] [--n-range MIN MAX] [--start I]
                                      [--time-limit SECONDS] [--estimators filter,recursion,trajectory]
+                                     [--log FILE]
 
 On a shared machine: ``--start`` splits the systems over several invocations (their counts add up),
 ``--time-limit`` stops starting tasks after that long and reports the systems that finished.
+``--log FILE`` appends one JSON line per finished case as it finishes (a run that is killed keeps
+what it measured); the failing cases are also listed by name after the tables.
 
 * N seeded random systems (`tests/reliability/random_systems.py`: five kinds, n = 2..6, p, m = 1..3,
   box and CZ noises, T = 10..40), each in the four regimes (noise scale 1, 1e-6, 1e3; state offset
@@ -26,6 +29,8 @@ a process pool with a tqdm bar. Prints Markdown tables.
 from __future__ import annotations
 
 import argparse
+import dataclasses
+import json
 import sys
 import time
 from collections import Counter, defaultdict
@@ -150,6 +155,28 @@ def rescale_table(outcomes: list[rescaling.RescaleOutcome]) -> str:
     return "\n".join(lines)
 
 
+def failed_cases(results: list[compare.CaseResult], limit: int = 40) -> str:
+    """The cases behind the tables' nonzero counts, one line per estimator that failed."""
+    lines = []
+    for r in results:
+        for o in r.failed:
+            what = [o.error and f"{o.error} at {o.stage}",
+                    o.outside and f"{o.outside} outside (worst {o.worst_outside:.1e})",
+                    o.off and f"{o.off} off (worst {o.worst_off:.1e})",
+                    o.not_enclosing and f"{o.not_enclosing} not enclosing (worst {o.worst_not_enclosing:.1e})"]
+            lines.append(f"  {r.name} {o.estimator}: " + ", ".join(w for w in what if w))
+    if not lines:
+        return "Failing cases: none"
+    more = f" (first {limit})" if len(lines) > limit else ""
+    return f"Failing cases: {len(lines)}{more}\n" + "\n".join(lines[:limit])
+
+
+def _log_line(log, record: dict) -> None:
+    if log is not None:
+        log.write(json.dumps(record) + "\n")
+        log.flush()
+
+
 def witness_table(outcomes) -> str:
     ok = [o for o in outcomes if isinstance(o, witness.WitnessOutcome)]
     bad = [o for o in ok if o.violations]
@@ -209,6 +236,8 @@ def main(argv=None) -> None:
                     help="comma-separated subset of " + ", ".join(compare.ESTIMATORS) + " (default: all; "
                          "the recursion smoother dominates the time at T = 40)")
     ap.add_argument("--no-concurrency", action="store_true")
+    ap.add_argument("--log", type=Path, default=None, metavar="FILE",
+                    help="append one JSON line per finished case (and oracle failure) as it finishes")
     ap.add_argument("--time-limit", type=float, default=None, metavar="SECONDS",
                     help="stop starting tasks after this long and report the tasks finished (the "
                          "title says how many systems that is)")
@@ -221,6 +250,7 @@ def main(argv=None) -> None:
     t0 = time.perf_counter()
     case_results, oracle_failed, witnesses, rescaled, long_runs = [], [], [], [], []
     systems_done = 0
+    log = args.log.open("a") if args.log is not None else None
     with ProcessPoolExecutor(max_workers=args.workers) as pool:
         futures = {}
         # The cheap rescaling tasks first, then the systems in index order: a run stopped by the
@@ -248,6 +278,9 @@ def main(argv=None) -> None:
                 results, w = out
                 for r in results:
                     (oracle_failed if isinstance(r, tuple) else case_results).append(r)
+                    _log_line(log, {"oracle_failed": r[1], "message": r[2]} if isinstance(r, tuple) else
+                              {"case": r.name, "oracle_seconds": r.oracle_seconds,
+                               "outcomes": [dataclasses.asdict(o) for o in r.outcomes]})
                 if w is not None:
                     witnesses.append(w)
             elif kind == "rescale":
@@ -255,6 +288,8 @@ def main(argv=None) -> None:
             else:
                 (oracle_failed if isinstance(out, tuple) else long_runs).append(out)
     elapsed = time.perf_counter() - t0
+    if log is not None:
+        log.close()
 
     if systems_done < args.systems:
         print(f"\nTime limit of {args.time_limit:.0f} s reached: {systems_done} of {args.systems} "
@@ -275,6 +310,8 @@ def main(argv=None) -> None:
     print(rescale_table(rescaled))
     print()
     print(witness_table(witnesses))
+    print()
+    print(failed_cases(case_results))
     print()
     if oracle_failed:
         print(f"Oracle failures (cases left out of the counts): {len(oracle_failed)}")
