@@ -128,6 +128,10 @@ class TrajectoryOracle:
         add_rows(embed(f0.A, starts[0]), f0.b, 0)
         M = embed(f0.G, starts[0])  # x_0 = M ζ + m
         m = f0.c.copy()
+        # The rounding level of every measurement row (`data_tolerance`): (j + 2)(n + N) ε times the
+        # magnitudes it is computed from, |y| + |C||m| + |C||M|h (an estimate of the accuracy of the
+        # data, not a bound: a rigorous bound by |A|^j grows like ρ(|A|)^j on stable systems).
+        level = [0.0] * f0.A.shape[0]
         self._M, self._m, self._ncols = [], [], []
         col = 1
         for j in range(self.T + 1):
@@ -144,7 +148,12 @@ class TrajectoryOracle:
             h[sv:sv + fv.G.shape[1]] = fv.h
             add_rows(embed(fv.A, sv), fv.b, j)
             Cj, Dj = system.C(j), system.D(j)
+            level.extend([0.0] * fv.A.shape[0] + [0.0] * (fw.A.shape[0] if j > 0 else 0))
             add_rows(Cj @ M + embed(Dj @ fv.G, sv), ys[j] - Cj @ m - Dj @ fv.c, j)
+            hfin = np.where(np.isfinite(h), h, 0.0)
+            level.extend((j + 2) * (self.n + N) * np.finfo(float).eps * (
+                np.abs(ys[j]) + np.abs(Cj) @ np.abs(m) + np.abs(Dj) @ np.abs(fv.c)
+                + np.abs(Cj) @ (np.abs(M) @ hfin) + np.abs(Dj) @ (np.abs(fv.G) @ np.where(np.isfinite(fv.h), fv.h, 0.0))))
             self._M.append(M.copy())
             self._m.append(m.copy())
             self._ncols.append(int(starts[col]))
@@ -163,6 +172,11 @@ class TrajectoryOracle:
             raise OracleError("a measurement row with no factor has a nonzero residual")
         self._E = E[~zero] / norms[~zero, None]
         self._f = f[~zero] / norms[~zero]
+        #: The rounding level of the unit-scaled rows: the largest error with which floating point
+        #: states the data (propagated centres, measurement residuals). Where the data pin the
+        #: state (more independent measurements than unknowns, or a state 1e11 σ from the origin)
+        #: the exact feasible set is as thin as this, and HiGHS at 1e-10 can call it infeasible.
+        self.data_tolerance = float(np.max(np.asarray(level)[~zero] / norms[~zero], initial=0.0))
         self._row_time = self._row_time[~zero]
         self._warm: _WarmLP | None = None
 
@@ -170,7 +184,7 @@ class TrajectoryOracle:
     def _lp(self, upto: int) -> "_WarmLP":
         """The one HiGHS model, with the measurement rows of times > ``upto`` made free (inactive)."""
         if self._warm is None:
-            self._warm = _WarmLP(self._E, self._f, self._bounds)
+            self._warm = _WarmLP(self._E, self._f, self._bounds, self.data_tolerance)
         self._warm.activate(self._row_time <= upto)
         return self._warm
 
@@ -241,8 +255,9 @@ class _WarmLP:
     or one more block of rows takes a handful of iterations. Same solver, same tolerances.
     """
 
-    def __init__(self, E: np.ndarray, f: np.ndarray, bounds: np.ndarray):
+    def __init__(self, E: np.ndarray, f: np.ndarray, bounds: np.ndarray, data_tolerance: float = 0.0):
         self.E, self.bounds = E, bounds
+        self.data_tolerance = data_tolerance
         self.h = self._model(E, f, bounds, {**HIGHS_OPTIONS, **_WARM_OPTIONS})
         self.f = f
         self.active = np.ones(E.shape[0], dtype=bool)
@@ -298,6 +313,17 @@ class _WarmLP:
         cold.changeColsCost(self.n, np.arange(self.n, dtype=np.int32), c)
         cold.run()
         status = cold.getModelStatus()
+        tolerance = HIGHS_OPTIONS["primal_feasibility_tolerance"]
+        if status == highspy.HighsModelStatus.kInfeasible and self.data_tolerance > tolerance:
+            # Infeasible at 1e-10, on data that floating point states only to data_tolerance (the
+            # simulated truth is feasible): the exact set is thinner than the data's rounding. The
+            # oracle then answers at the data's own accuracy (reliability cases 072: states 3e11
+            # at k = 6, a hull 7 wide; 074 at offset 1e6: three measurements pin x exactly).
+            cold = self._model(self.E[self.active], self.f[self.active], self.bounds,
+                               {**HIGHS_OPTIONS, "primal_feasibility_tolerance": self.data_tolerance})
+            cold.changeColsCost(self.n, np.arange(self.n, dtype=np.int32), c)
+            cold.run()
+            status = cold.getModelStatus()
         if status == highspy.HighsModelStatus.kOptimal:
             return np.array(cold.getSolution().col_value)
         if status == highspy.HighsModelStatus.kUnbounded:
