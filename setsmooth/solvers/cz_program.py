@@ -133,7 +133,7 @@ class CZProgram:
             return solved, None
         finite = np.isfinite(values) & np.isfinite(bounds)
         with np.errstate(invalid="ignore"):
-            loose = finite & ~(bounds - values <= self._gap_tolerance(D, values, bounds))
+            loose = finite & ~(np.abs(bounds - values) <= self._gap_tolerance(D, values, bounds))
         rows = np.flatnonzero(loose)
         if rows.size:
             values, points, xis, lams, bounds = (a.copy() for a in (values, points, xis, lams,
