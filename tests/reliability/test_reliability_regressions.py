@@ -19,7 +19,8 @@ import setsmooth as ss
 from setsmooth.solvers import factor_set
 from setsmooth.solvers.presolve import presolve
 
-from .compare import ENCLOSE_TOL, TrajectoryOracle, compare_case, confirm_by_witnesses, describe
+from .compare import (ENCLOSE_TOL, TrajectoryOracle, compare_case, confirm_by_witnesses, confirm_off,
+                      describe)
 from .oracle import FactorForm, cz_support, data_scale
 from .random_systems import base_case, in_regime
 
@@ -114,5 +115,53 @@ def test_a_free_factor_seen_only_by_a_noise_free_row_takes_its_neighbours_units(
 
 def test_filter_hulls_are_exact_with_a_state_no_noise_reaches_at_tiny_noise():
     case = in_regime(base_case(2026, 15), "scale1e-06")
+    result = compare_case(case, estimators=("filter",))
+    assert not result.failed, describe(result)
+
+
+def test_a_primal_value_beyond_its_certified_bound_is_escalated_not_kept():
+    """Reliability case 150 (n = 5, stable, box noises, states ~3500 σ from the origin): on two
+    trajectory-smoother directions Clarabel's point was infeasible beyond tolerance, its value above
+    the certified bound; the bracket check read the negative gap as tight and returned the bound,
+    9e-5 (4.2e-5 of w + σ) outside the exact hull. An inverted bracket is now escalated like a loose
+    one. The reference is the oracle's cold `linprog` per direction (independent of its warm model)."""
+    case = base_case(2026, 150)
+    oracle = TrajectoryOracle(case.system, case.X0, case.ys)
+    sigma = data_scale(case.system, case.X0)
+    smoothed = ss.optimal_smoother(case.system, case.X0, case.ys, method="trajectory")
+    for k in (2, 6):
+        hull = smoothed[k].interval_hull(certified=True)
+        for i in range(case.system.n):
+            e = np.eye(case.system.n)[i]
+            hi, lo = oracle.support_linprog(k, e), -oracle.support_linprog(k, -e)
+            unit = hi - lo + sigma
+            assert hull.hi[i] >= hi - ENCLOSE_TOL * unit and hull.lo[i] <= lo + ENCLOSE_TOL * unit
+            assert abs(hull.hi[i] - hi) <= 1e-6 * unit and abs(hull.lo[i] - lo) <= 1e-6 * unit, (k, i)
+
+
+def test_an_off_endpoint_is_confirmed_by_a_cold_solve_of_the_oracle():
+    """Case 150 at k = 21: the oracle's warm model stopped 3.2e-6 below the maximum (1e-6 of w + σ)
+    that its own cold solve and the smoother agree on to 1e-12; `confirm_off` keeps the better of
+    the two oracle answers, so only an endpoint off from both counts."""
+    case = base_case(2026, 150)
+    oracle = TrajectoryOracle(case.system, case.X0, case.ys)
+    exact = oracle.smoothed_hulls()
+    result = compare_case(case, exact={"filtered": None, "smoothed": exact}, estimators=("trajectory",))
+    assert not result.failed, describe(result)
+    # A truly off hull still counts: the hull at k = 21 shrunk by 1e-3 of the width.
+    lo, hi = exact[0].copy(), exact[1].copy()
+    lo[21] += 1e-3 * (exact[1][21] - exact[0][21])
+    hi[21] -= 1e-3 * (exact[1][21] - exact[0][21])
+    sigma = data_scale(case.system, case.X0)
+    confirmed = confirm_off(oracle, False, exact, [(lo, hi)], sigma)
+    unit = confirmed[1][21] - confirmed[0][21] + sigma
+    assert np.all(confirmed[1][21] - hi[21] > 1e-6 * unit) and np.all(lo[21] - confirmed[0][21] > 1e-6 * unit)
+
+
+def test_an_oracle_program_thinner_than_the_rounding_of_its_data_is_still_solved():
+    """Case 074 at offset 1e6: three measurements of a 2-state system with one noise factor pin the
+    state exactly (hulls 2e-9 wide at 1e6); at 1e-10 HiGHS called k = 1 infeasible, which left the
+    case out of the counts. The oracle now retries at the data's rounding level."""
+    case = in_regime(base_case(2026, 74), "offset1e+06")
     result = compare_case(case, estimators=("filter",))
     assert not result.failed, describe(result)
