@@ -81,6 +81,23 @@ def certified_hull(points: np.ndarray) -> tuple[np.ndarray, float]:
     return H, distance_bound(pts[~keep], H)
 
 
+def is_certified_chain(V: np.ndarray) -> bool:
+    """Whether the cyclic sequence V (≥ 3 points) is exactly a strictly convex counter-clockwise
+    polygon: every turn certainly left (`_certainly_left`'s bound, vectorized) and the sequence
+    bitonic in lexicographic order (one increasing and one decreasing run, exact float comparisons),
+    so it turns once around: a closed chain of left turns that turns once is convex."""
+    if len(V) < 3:
+        return False
+    k = len(V)
+    prev, nxt = V[np.arange(-1, k - 1)], V[np.arange(1, k + 1) % k]
+    left = (V[:, 0] - prev[:, 0]) * (nxt[:, 1] - prev[:, 1])
+    right = (V[:, 1] - prev[:, 1]) * (nxt[:, 0] - prev[:, 0])
+    if not np.all(left - right > ORIENT_ERR * (np.abs(left) + np.abs(right)) + TINY):
+        return False
+    up_x = (nxt[:, 0] > V[:, 0]) | ((nxt[:, 0] == V[:, 0]) & (nxt[:, 1] > V[:, 1]))
+    return int(np.count_nonzero(up_x != up_x[np.arange(-1, k - 1)])) == 2
+
+
 def distance_bound(P: np.ndarray, H: np.ndarray) -> float:
     """An upper bound on max_p dist(p, conv(H)) over the rows p of P (0 when P is empty).
 
@@ -95,7 +112,7 @@ def distance_bound(P: np.ndarray, H: np.ndarray) -> float:
     if len(H) == 1:
         A, B = H, H
     else:
-        A, B = H, np.roll(H, -1, axis=0)
+        A, B = H, H[np.arange(1, len(H) + 1) % len(H)]
         if len(H) == 2:
             A, B = H[:1], H[1:]
     cost = np.full(len(P), np.inf)
@@ -132,7 +149,8 @@ def clip(H: np.ndarray, a: np.ndarray, h: float) -> tuple[np.ndarray | None, flo
     outward (α from above, β from below, the quotient enlarged and clamped to [0, 1]), so the exact
     crossing lies between v_i and the exact new point, and the rounding of the new point is charged.
     The result is conv(kept ∪ new points) ⊇ conv(H) ∩ {aᵀx ≤ h} up to the charge (exactly, since the
-    chain is the boundary of conv(H)). Re-certify it with `certified_hull`.
+    chain is the boundary of conv(H)), in the chain's cyclic order (a crossing follows the vertex its
+    edge starts at). Re-certify it (`is_certified_chain`, else `certified_hull`).
     """
     absH = np.abs(H)
     s = H @ a - h
@@ -144,11 +162,12 @@ def clip(H: np.ndarray, a: np.ndarray, h: float) -> tuple[np.ndarray | None, flo
         return H, 0.0
     k = len(H)
     if k == 2:
-        pairs_i, pairs_j = np.array([0, 1]), np.array([1, 0])
+        pairs_i, pairs_j, at = np.array([0, 1]), np.array([1, 0]), np.array([0, 0])
     else:
-        pairs_i = np.arange(k)
-        pairs_j = (pairs_i + 1) % k
-        pairs_i, pairs_j = np.concatenate([pairs_i, pairs_j]), np.concatenate([pairs_j, pairs_i])
+        start = np.arange(k)
+        end = (start + 1) % k
+        # An edge crossed from either side: the new point sits after the edge's first vertex.
+        pairs_i, pairs_j, at = (np.concatenate(p) for p in ((start, end), (end, start), (start, start)))
     cross = ~out[pairs_i] & out[pairs_j]
     i, j = pairs_i[cross], pairs_j[cross]
     alpha = np.maximum(-s[i], 0.0) + err[i]
@@ -156,7 +175,8 @@ def clip(H: np.ndarray, a: np.ndarray, h: float) -> tuple[np.ndarray | None, flo
     t = np.minimum(alpha / (alpha + beta) * (1 + 8 * U), 1.0)
     new = H[i] + t[:, None] * (H[j] - H[i])
     charge = SQRT2_UP * float((6 * U * (absH[i] + absH[j])).max()) + TINY
-    return np.vstack([H[~out], new]), up(charge)
+    order = np.argsort(np.concatenate([2 * np.flatnonzero(~out), 2 * at[cross] + 1]), kind="stable")
+    return np.vstack([H[~out], new])[order], up(charge)
 
 
 def h_form(V: np.ndarray, pad: float) -> tuple[np.ndarray, np.ndarray]:
@@ -170,7 +190,7 @@ def h_form(V: np.ndarray, pad: float) -> tuple[np.ndarray, np.ndarray]:
     if k == 1:
         N = np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]])
     else:
-        E = np.roll(V, -1, axis=0) - V
+        E = V[np.arange(1, k + 1) % k] - V
         if k == 2:
             E = E[:1]
             N = np.vstack([E[:, ::-1] * [1.0, -1.0], E[:, ::-1] * [-1.0, 1.0], E, -E])

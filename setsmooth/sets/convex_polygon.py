@@ -145,12 +145,14 @@ class Polygon(ConvexSet):
         image = V @ M.T
         err = 3 * U * float((np.abs(V) @ np.abs(M).T).max()) * geo.SQRT2_UP + geo.TINY
         pad = geo.spectral_norm_bound(M) * self.pad * (1 + 4 * U) + err
-        return Polygon._trusted(*_hulled(image, geo.up(pad)))
+        if M[0, 0] * M[1, 1] < M[0, 1] * M[1, 0]:  # probably orientation-reversing: try the chain reversed
+            image = image[::-1]
+        return Polygon._trusted(*_hulled(image, geo.up(pad), ordered=True))
 
     def _closed_translate(self, v: np.ndarray):
         image = self.vertices + v
         err = U * float((np.abs(self.vertices) + np.abs(v)).max()) * geo.SQRT2_UP + geo.TINY
-        return Polygon._trusted(*_hulled(image, geo.up(self.pad * (1 + 2 * U) + err)))
+        return Polygon._trusted(*_hulled(image, geo.up(self.pad * (1 + 2 * U) + err), ordered=True))
 
     def _closed_sum(self, other):
         Q = _as_polygon(other)
@@ -188,7 +190,12 @@ class Polygon(ConvexSet):
         return P._closed_generalized_intersection(R, self)
 
 
-def _hulled(points: np.ndarray, pad: float) -> tuple[np.ndarray, float]:
+def _hulled(points: np.ndarray, pad: float, ordered: bool = False) -> tuple[np.ndarray, float]:
+    """A certified hull of ``points`` and the pad plus its charge. ``ordered``: the points are
+    probably already a convex counter-clockwise chain (a clip, a map with det > 0, a translation),
+    kept as they are when `is_certified_chain` proves it."""
+    if ordered and geo.is_certified_chain(points):
+        return points, pad
     V, charge = geo.certified_hull(points)
     return V, geo.up(pad + charge) if charge else pad
 
@@ -203,16 +210,21 @@ def _clip_all(V: np.ndarray, pad: float, rows: np.ndarray, h: np.ndarray, row_er
     x_bound = np.abs(V).max(axis=0) + pad
     slack = row_err @ x_bound
     norms = np.sqrt((rows * rows).sum(axis=1))
-    for r, hi, sl, nr in zip(rows, h, slack, norms):
-        if not np.isfinite(hi):
-            continue
+    finite = np.isfinite(h)
+    rows, h, slack, norms = rows[finite], h[finite], slack[finite], norms[finite]
+    # Half-planes that no vertex certainly violates leave the polygon as it is (skipping a cut is
+    # always sound): one product decides which ones to clip by.
+    values = V @ rows.T - (h + slack + norms * pad)
+    errors = 4 * U * (np.abs(V) @ np.abs(rows).T + np.abs(h) + slack + norms * pad) + geo.TINY
+    for idx in np.flatnonzero(np.any(values > errors, axis=0)):
+        hi, sl, nr = h[idx], slack[idx], norms[idx]
         offset = hi + sl + nr * pad * (1 + 4 * U)
         offset = geo.up(offset + (abs(hi) + sl + nr * pad) * 4 * U)
-        cut, charge = geo.clip(V, r, offset)
+        cut, charge = geo.clip(V, rows[idx], offset)
         if cut is None:
             return EmptySet(2)
         if cut is not V:
-            V, pad = _hulled(cut, geo.up(pad + charge))
+            V, pad = _hulled(cut, geo.up(pad + charge), ordered=True)
     return Polygon._trusted(V, pad)
 
 

@@ -296,3 +296,12 @@ def test_spectral_norm_bound_is_an_upper_bound_and_tight():
         exact = np.linalg.norm(M, 2)
         bound = geo.spectral_norm_bound(M)
         assert bound >= exact and bound <= exact * (1 + 1e-6) + 1e-280
+
+
+def test_a_chain_is_certified_only_when_it_is_a_convex_counter_clockwise_polygon():
+    angles = 2 * np.pi * np.arange(5) / 5
+    pentagon = np.column_stack([np.cos(angles), np.sin(angles)])
+    assert geo.is_certified_chain(pentagon)
+    assert not geo.is_certified_chain(pentagon[::-1])                  # clockwise
+    assert not geo.is_certified_chain(pentagon[[0, 2, 4, 1, 3]])       # a pentagram: left turns, winds twice
+    assert not geo.is_certified_chain(np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [1.0, 1.0]]))  # collinear
