@@ -199,7 +199,7 @@ def h_form(V: np.ndarray, pad: float) -> tuple[np.ndarray, np.ndarray]:
     dots = N @ V.T
     err = 4 * U * (np.abs(N) @ np.abs(V).T) + TINY
     h = (dots + err).max(axis=1) + np.sqrt((N * N).sum(axis=1)) * pad * (1 + 4 * U)
-    return N, np.nextafter(h * (1 + 2 * U) + TINY, np.inf)
+    return N, np.nextafter(h + np.abs(h) * 2 * U + TINY, np.inf)
 
 
 def spectral_norm_bound(A: np.ndarray) -> float:

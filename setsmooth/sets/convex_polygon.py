@@ -294,8 +294,10 @@ def _convert(S: ConvexSet) -> Polygon | None:
 def _zonotope_polygon(G: np.ndarray, c: np.ndarray) -> Polygon:
     """The 2-D zonotope c + G[−1, 1]^ng: its boundary walks the generators sorted by angle (each
     turned into the upper half-plane) from c − Σg, adding 2g along the lower chain and subtracting
-    along the upper. The partial sums' rounding (≤ (2ng + 2)u times the sum of the magnitudes
-    added) is charged to the pad."""
+    along the upper. Charged to the pad: the partial sums' rounding (≤ (2ng + 4)u times the sum of
+    the magnitudes added) and the vertices a misordered pair of generators would skip (atan2 is
+    accurate to a few ulps, so only generators within ~4uπ of each other can swap, and the skipped
+    vertex lies within ‖g‖·4uπ of the walk's chord for each such g)."""
     G = G[:, np.any(G != 0, axis=0)]
     flip = (G[1] < 0) | ((G[1] == 0) & (G[0] < 0))
     G = np.where(flip, -G, G)
@@ -305,4 +307,5 @@ def _zonotope_polygon(G: np.ndarray, c: np.ndarray) -> Polygon:
     walk = start + np.vstack([np.zeros((1, 2)), np.cumsum(steps, axis=0)])
     magnitude = np.abs(c) + 5 * np.abs(G).sum(axis=1)
     err = (2 * G.shape[1] + 4) * U * float(magnitude.max()) * geo.SQRT2_UP + geo.TINY
+    err += 8 * U * np.pi * float(np.sqrt((G * G).sum(axis=0)).sum())
     return Polygon._trusted(*_hulled(walk, geo.up(err)))

@@ -305,3 +305,13 @@ def test_a_chain_is_certified_only_when_it_is_a_convex_counter_clockwise_polygon
     assert not geo.is_certified_chain(pentagon[::-1])                  # clockwise
     assert not geo.is_certified_chain(pentagon[[0, 2, 4, 1, 3]])       # a pentagram: left turns, winds twice
     assert not geo.is_certified_chain(np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [1.0, 1.0]]))  # collinear
+
+
+@pytest.mark.parametrize("angle", [0.0, 1e-17, 1e-15, 3e-13, np.pi - 1e-16])
+def test_zonotope_with_nearly_parallel_generators_is_enclosed(angle):
+    G = np.array([[1.0, np.cos(angle) * 2.0, 0.3], [0.0, np.sin(angle) * 2.0, 0.7]]) * 1e3
+    c = np.array([5e3, -2e3])
+    exact = [(Fraction(float(c[0])) + sum(s * Fraction(float(g)) for s, g in zip(signs, G[0])),
+              Fraction(float(c[1])) + sum(s * Fraction(float(g)) for s, g in zip(signs, G[1])))
+             for signs in np.array(np.meshgrid(*[[-1, 1]] * 3)).T.reshape(-1, 3).tolist()]
+    assert_tight_outer(Polygon.from_set(ss.Zonotope(G, c)), ref.hull(exact))
