@@ -1,13 +1,15 @@
 """Smoothing cost, measured side by side in one run.
 
-1. One Monte-Carlo trial of the smoothing paper's example (31), T = 50: classical filter, optimal
-   smoother and the certified interval hulls of every filtered and smoothed set, with the smoother
-   computed by the closed-form recursion (Algorithm 1, eq. (24)) and by the trajectory form.
+1. One Monte-Carlo trial of the smoothing paper's example (31), T = 50 (one run of Fig. 3): classical
+   filter, optimal smoother and the certified interval hulls of every filtered and smoothed set, with
+   the smoother computed by the closed-form recursion (Algorithm 1, eq. (24)) on CZs, by the trajectory
+   form (CZ posterior views; Fig. 3's way before polygons), and by Algorithm 1 with exact polygons
+   (``classical_filter(form='polygon')`` + the recursion; Fig. 3's way now).
 2. Smoothing a T = 600 horizon of a 3-state system with the trajectory form (build + all hulls).
 3. Assembling the trajectory set's sparse matrix: in one step from index arrays (`setsmooth.trajectories`)
    vs one small scipy block per row group (the previous assembly, kept in tests/trajectory_reference.py).
 
-Usage: python benchmarks/bench_smoothing.py [--repeats N] [--seed S] [--horizon T]
+Usage: python benchmarks/bench_smoothing.py [--repeats N] [--seed S] [--horizon T] [--trial-only]
 """
 
 from __future__ import annotations
@@ -36,8 +38,8 @@ def trial(system, X0, T, rng, method):
     """Filter, smoother and every certified interval hull; returns (seconds, smoothed hulls)."""
     start = time.perf_counter()
     _, ys = ss.simulate(system, X0, T, rng)
-    posteriors = ss.classical_filter(system, X0, ys)
-    if method == "recursion":
+    posteriors = ss.classical_filter(system, X0, ys, form="polygon" if method == "polygon" else "auto")
+    if method in ("recursion", "polygon"):
         smoothed = ss.optimal_smoother(system, X0, ys, method="recursion", posteriors=posteriors)
     else:
         smoothed = ss.optimal_smoother(system, X0, ys, method="trajectory")
@@ -51,26 +53,32 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--horizon", type=int, default=600)
+    parser.add_argument("--trial-only", action="store_true", help="only part 1 (one Fig. 3 trial)")
     args = parser.parse_args()
 
     system, X0 = smoothing_example_31(), smoothing_example_31_x0()
-    times = {"recursion": [], "trajectory": []}
-    max_gap = 0.0
+    times = {"recursion": [], "trajectory": [], "polygon": []}
+    max_gap = {"recursion": 0.0, "polygon": 0.0}
     for r in range(args.repeats):
         results = {}
         for method in times:
             seconds, _, hulls_s = trial(system, X0, 50, np.random.default_rng(args.seed + r), method)
             times[method].append(seconds)
             results[method] = hulls_s
-        for a, b in zip(results["recursion"], results["trajectory"]):
-            max_gap = max(max_gap, np.abs(a.lo - b.lo).max(), np.abs(a.hi - b.hi).max())
+        for method in max_gap:
+            for a, b in zip(results[method], results["trajectory"]):
+                max_gap[method] = max(max_gap[method], np.abs(a.lo - b.lo).max(), np.abs(a.hi - b.hi).max())
     med = {m: statistics.median(t) for m, t in times.items()}
     print("One Monte-Carlo trial of example (31), T = 50 (filter + smoother + all certified hulls)")
     print(f"{'method':<12}{'median s':>10}   (repeats = {args.repeats})")
     for m in times:
         print(f"{m:<12}{med[m]:>10.3f}")
     print(f"ratio recursion / trajectory: {med['recursion'] / med['trajectory']:.1f}x; "
-          f"max |hull difference| = {max_gap:.2e}")
+          f"max |smoothed hull difference| = {max_gap['recursion']:.2e}")
+    print(f"ratio trajectory / polygon: {med['trajectory'] / med['polygon']:.1f}x; "
+          f"max |smoothed hull difference| = {max_gap['polygon']:.2e}")
+    if args.trial_only:
+        return
 
     system3 = three_state_system()
     X0_3 = ss.Box(-np.ones(3), np.ones(3))

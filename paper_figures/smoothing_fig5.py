@@ -3,8 +3,8 @@
     MSE_k = mean over runs of ‖x̂_k − x_k‖²,   k ∈ [0, 50].
 
 SMS point estimate: the centre of the interval hull of ⟦x_k | y_{0:T}⟧ (`ConvexSet.center()`, the
-∞-norm Chebyshev centre), the smoothed ranges computed as projections of the trajectory set
-(`optimal_smoother(method="trajectory")`, the sets of Algorithm 1). RTS estimate: the smoothed mean
+∞-norm Chebyshev centre), the smoothed ranges of Algorithm 1 computed exactly with polygons as in
+Fig. 3 (`_smoothing_examples.linear_ranges`). RTS estimate: the smoothed mean
 with Q = q, R = r·I (32), (q, r) the best pair of Fig. 4's procedure (`smoothing_fig4.tune`) with
 min(runs, 100) runs per pair: read from ``smoothing_fig4.json`` in the output directory when that file
 was made with the same settings, recomputed otherwise (the JSON says which). The tuning runs use other
@@ -39,7 +39,7 @@ def trial(rng: np.random.Generator, q: float, r: float) -> dict:
     """Squared errors ‖x̂_k − x_k‖², k = 0..T, of the SMS hull centre and of the RTS smoother."""
     system, X0 = ex.linear_system(), ex.linear_x0()
     xs, ys = ss.simulate(system, X0, ex.T, rng)
-    centres = np.array([S.center() for S in ss.optimal_smoother(system, X0, ys, method="trajectory")])
+    centres = np.array([S.center() for S in ex.linear_ranges(system, X0, ys)[1]])
     return {"sms": ((centres - xs) ** 2).sum(axis=1),
             "rts": smoothing_fig4.rts_squared_errors(system, xs, ys, q, r),
             "rts_paper_pair": smoothing_fig4.rts_squared_errors(system, xs, ys, *ex.PAPER_BEST_QR)}
@@ -110,7 +110,8 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
         "settings": {"runs": runs, "seed": seed, "T": ex.T, "x0_set": ex.X0_LINEAR,
                      "sms_point_estimate": "centre of the interval hull of the smoothed range (center())",
                      "sms_source": sms_source,
-                     "smoother": "optimal_smoother(method='trajectory') = the sets of Algorithm 1 / (24)",
+                     "smoother": "optimal_smoother(method='recursion') on classical_filter(form='polygon'): "
+                                 "the sets of Algorithm 1 / (24), exact polygons",
                      "rts_prior": {"mean": ex.rts_prior()[0], "P0": ex.rts_prior()[1]},
                      "rts_tuning": tuned,
                      "mse": "MSE_k = mean over runs of ‖x̂_k − x_k‖₂²",

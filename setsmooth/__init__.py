@@ -21,7 +21,7 @@ _EXPORTS = {
                      "DropZeros", "DropDependentConstraints", "MergeParallelGenerators", "Rescale",
                      "EliminateConstraints", "Girard", "Combastel", "IntervalHull", "CORA_GIRARD",
                      "CORA_COMBASTEL", "VPolytope", "Containment", "is_subset",
-                     "pontryagin_difference", "ChebyshevBall"], ".sets"),
+                     "pontryagin_difference", "ChebyshevBall", "Polygon"], ".sets"),
     "SolverError": ".solvers",
     **dict.fromkeys(["LinearSystem", "NonlinearSystem", "simulate"], ".systems"),
     **dict.fromkeys(["classical_filter", "interval_filter", "kalman_filter", "rts_smoother",
@@ -61,7 +61,7 @@ __all__ = [
     "optimal_joint_smoother", "augment_identical_process_noise", "sampled_optimal_filter",
     "classical_interval_filter", "SampledRanges", "rethinking_examples",
     "SetEstimates", "references",
-    "CORA_COMBASTEL", "VPolytope", "Containment", "is_subset", "pontryagin_difference", "ChebyshevBall",
+    "CORA_COMBASTEL", "VPolytope", "Containment", "is_subset", "pontryagin_difference", "ChebyshevBall", "Polygon",
     "LSUModel", "LSUResult", "lsu_cz_filter", "lsuo_filter", "lsup_filter", "lsu_point_estimate",
 ]
 

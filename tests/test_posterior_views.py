@@ -40,9 +40,11 @@ def recursion_posteriors(system, X0, ys):
     return out
 
 
-def highs_support(system, X0: ss.Box, ys, k: int, d: np.ndarray) -> float:
-    """max dᵀx_k over the trajectories 0..k consistent with y_0..y_k, as HiGHS's LP over the raw
-    variables (x_0..x_k, η_w, η_v; noises as G η + c with Aη = b, |η| ≤ 1): no CZ algebra in it."""
+def highs_support(system, X0: ss.Box, ys, k: int, d: np.ndarray, last: int | None = None) -> float:
+    """max dᵀx_k over the trajectories 0..last (default k) consistent with y_0..y_last, as HiGHS's LP
+    over the raw variables (x_0..x_last, η_w, η_v; noises as G η + c with Aη = b, |η| ≤ 1): no CZ
+    algebra in it. ``last = T`` gives the smoothed range's support."""
+    cost_at, k = k, k if last is None else last
     n, Zw, Zv = system.n, system.W.to_constrained_zonotope(), system.V.to_constrained_zonotope()
     gw, gv = Zw.ng, Zv.ng
     nx, nw, nv = n * (k + 1), gw * k, gv * (k + 1)
@@ -70,7 +72,7 @@ def highs_support(system, X0: ss.Box, ys, k: int, d: np.ndarray) -> float:
             row_block([(nx + nw + gv * j, np.asarray(Zv.A))], Zv.b)
     bounds = [(lo, hi) for lo, hi in zip(X0.lo, X0.hi)] + [(None, None)] * (nx - n) + [(-1, 1)] * (nw + nv)
     cost = np.zeros(N)
-    cost[n * k:n * (k + 1)] = -d
+    cost[n * cost_at:n * (cost_at + 1)] = -d
     res = linprog(cost, A_eq=np.vstack(rows), b_eq=np.concatenate(rhs), bounds=bounds, method="highs")
     assert res.status == 0, res.message
     return -res.fun

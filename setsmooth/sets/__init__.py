@@ -6,6 +6,7 @@ from .containment import Containment, is_subset
 from .difference import pontryagin_difference
 from .box import Box
 from .constrained_zonotope import ConstrainedZonotope
+from .convex_polygon import Polygon
 from .ellipsoid import Ellipsoid
 from .empty import EmptySet
 from .hpolytope import HPolytope
@@ -23,5 +24,5 @@ __all__ = [
     "CartesianProduct", "reduce", "ReductionMethod", "DropZeros", "DropDependentConstraints",
     "MergeParallelGenerators", "Rescale", "EliminateConstraints", "Girard", "Combastel", "IntervalHull",
     "CORA_GIRARD", "CORA_COMBASTEL", "VPolytope", "Containment", "is_subset", "pontryagin_difference",
-    "ChebyshevBall",
+    "ChebyshevBall", "Polygon",
 ]

@@ -1,0 +1,77 @@
+"""The exact filter of a planar polytope system with `Polygon`s (``classical_filter(form='polygon')``).
+
+Stability paper Algorithm 1 with every set a convex polygon in closed form (no solver):
+
+    prior_k     = A_{k-1} posterior_{k-1} ⊕ B_{k-1} W ⊕ {u_{k-1}}     vertex images and sums
+    posterior_k = { x ∈ prior_k : N C_k x ≤ h + N y_k }                 clipping by half-planes
+
+where N y ≤ h are the half-planes of D_k(−V) (exact for a box or an H-polytope of any dimension,
+rounded up for a planar polygon). Each `Polygon` contains the exact posterior and exceeds it only by
+rounding (`setsmooth.sets.convex_polygon`); a posterior is `EmptySet` only when certainly empty.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..sets.algebra import linear_map, minkowski_sum, translate
+from ..sets.base import ConvexSet
+from ..sets.convex_polygon import Polygon, as_polygon, half_planes
+from ..sets.empty import EmptySet
+from ..sets._polygon_geometry import TINY, U
+
+
+def polygon_posteriors(system, X0: ConvexSet, ys: np.ndarray) -> list[ConvexSet]:
+    """Posteriors ⟦x_k | y_{0:k}⟧, k = 0..T, as Polygons (trusted ys; system, X0 checked here).
+
+    Raises
+    ------
+    ValueError
+        When the form does not apply: n ≠ 2, or X0, B_k W or D_k(−V) has no polygon / half-plane
+        closed form (X0 and B_k W: a 2-D Polygon, bounded Box, Zonotope or VPolytope; D_k(−V): also
+        a Box or HPolytope of any dimension).
+    """
+    if system.n != 2:
+        raise ValueError(f"form='polygon' needs a planar state (n = 2), got n = {system.n}")
+    P0 = as_polygon(X0)
+    if P0 is None:
+        raise ValueError(f"form='polygon' needs X0 with a polygon form (a 2-D Polygon, bounded Box, "
+                         f"Zonotope or VPolytope), got {type(X0).__name__}")
+    posteriors: list[ConvexSet] = []
+    for k, y in enumerate(ys):
+        if k == 0:
+            prior: ConvexSet = P0
+        else:
+            prior = minkowski_sum(linear_map(system.A(k - 1), posteriors[-1]), _noise_polygon(system, k - 1))
+            u = system.nonzero_input(k - 1)
+            if u is not None:
+                prior = translate(prior, u)
+        posterior = _measurement_cut(system, k, prior, y)
+        if isinstance(posterior, EmptySet):
+            return posteriors + [EmptySet(2) for _ in range(k, len(ys))]
+        posteriors.append(posterior)
+    return posteriors
+
+
+def _noise_polygon(system, k: int) -> Polygon:
+    image = as_polygon(system.process_noise_image(k))
+    if image is None:
+        raise ValueError(f"form='polygon' needs B W with a polygon form (W a Box, Zonotope, VPolytope "
+                         f"or Polygon); B({k}) W is a {type(system.process_noise_image(k)).__name__}")
+    return image
+
+
+def _measurement_cut(system, k: int, prior: Polygon, y: np.ndarray) -> ConvexSet:
+    """{x ∈ prior : C_k x ∈ y_k + D_k(−V)} with y_k + D_k(−V) ⊆ {z : N z ≤ h + N y_k}, the offset
+    rounded up by its error bound (≤ (m + 2)u(|N||y| + |h|))."""
+    Y = system.measurement_noise_image(k)
+    halves = half_planes(Y)
+    if halves is None:
+        raise ValueError(f"form='polygon' needs D(−V) with half-planes (V a Box or HPolytope, or a "
+                         f"2-D Zonotope, VPolytope or Polygon); D({k})(−V) is a {type(Y).__name__} of "
+                         f"dimension {Y.dim}")
+    N, h = halves
+    shift = N @ y
+    err = (N.shape[1] + 2) * U * (np.abs(N) @ np.abs(y) + np.abs(h)) + TINY
+    offsets = np.nextafter(h + shift + err, np.inf)
+    return prior.cut_preimage(system.C(k), N, offsets)
