@@ -158,3 +158,31 @@ def test_references_cover_every_paper_the_code_cites():
         assert ref.title in (root / "README.md").read_text(encoding="utf-8")
     with pytest.raises(KeyError, match="known"):
         ss.references.cite("kalman")
+
+
+def test_interval_hulls_in_threads_are_the_serial_ones_and_kept_on_the_sets():
+    """Threads split the projections of one trajectory set; each thread builds its own solver
+    instances, so the hulls are those of a serial run, bit for bit, and are kept on the sets."""
+    rng = np.random.default_rng(7)
+    A = np.array([[0.9, 0.2, 0.0], [-0.2, 0.9, 0.1], [0.0, 0.0, 0.95]])
+    B = np.array([[0.1, 0.0], [0.0, 0.1], [0.05, 0.05]])
+    W = ss.ConstrainedZonotope(np.array([[0.4, -0.3, 0.1], [0.1, 0.2, -0.35]]), np.zeros(2),
+                               A=[[1.0, 1.0, 1.0]], b=[1.0])  # the triangle CZ
+    system = ss.LinearSystem(A, B, [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]], np.eye(2), W,
+                             ss.Box([-0.5, -0.5], [0.5, 0.5]))
+    X0 = ss.Box(-np.ones(3), np.ones(3))
+    xs, ys = ss.simulate(system, X0, 30, rng)
+    serial = ss.optimal_smoother(system, X0, ys).interval_hulls(certified=True)
+    smoothed = ss.optimal_smoother(system, X0, ys)
+    threaded = smoothed.interval_hulls(certified=True, workers=3)
+    for a, b in zip(serial, threaded):
+        assert np.array_equal(a.lo, b.lo) and np.array_equal(a.hi, b.hi)
+    assert all(S.interval_hull(certified=True) is h for S, h in zip(smoothed, threaded))
+    assert smoothed.contains_trajectory(xs).all()
+
+
+@pytest.mark.parametrize("workers", [0, -1, 1.5, True, "2"])
+def test_interval_hulls_refuses_a_bad_worker_count(run, workers):
+    smoothed = run[4]
+    with pytest.raises(ValueError, match="workers"):
+        smoothed.interval_hulls(workers=workers)
