@@ -4,12 +4,13 @@
                                      [--witness K] [--long-horizon L] [--horizon T]
                                      [--T-range MIN MAX] [--n-range MIN MAX] [--start I]
                                      [--time-limit SECONDS] [--estimators filter,recursion,trajectory]
-                                     [--log FILE]
+                                     [--log FILE] [--from-log FILE ...]
 
 On a shared machine: ``--start`` splits the systems over several invocations (their counts add up),
 ``--time-limit`` stops starting tasks after that long and reports the systems that finished.
 ``--log FILE`` appends one JSON line per finished case as it finishes (a run that is killed keeps
-what it measured); the failing cases are also listed by name after the tables.
+what it measured); the failing cases are also listed by name after the tables. ``--from-log FILE``
+prints the system tables of such logs (several files add up) without running anything.
 
 * N seeded random systems (`tests/reliability/random_systems.py`: five kinds, n = 2..6, p, m = 1..3,
   box and CZ noises, T = 10..40), each in the four regimes (noise scale 1, 1e-6, 1e3; state offset
@@ -171,6 +172,40 @@ def failed_cases(results: list[compare.CaseResult], limit: int = 40) -> str:
     return f"Failing cases: {len(lines)}{more}\n" + "\n".join(lines[:limit])
 
 
+def read_log(paths: list[Path]) -> tuple[list[compare.CaseResult], list[tuple]]:
+    """Case results and oracle failures from ``--log`` files (later lines win for a repeated case)."""
+    cases, failed = {}, {}
+    for path in paths:
+        for line in path.read_text().splitlines():
+            record = json.loads(line)
+            if "oracle_failed" in record:
+                failed[record["oracle_failed"]] = ("oracle", record["oracle_failed"], record["message"])
+                continue
+            name = record["case"]
+            regime = next(r for r in REGIMES if name.endswith("-" + r))
+            _, kind, noise = name[: -len(regime) - 1].split("-")
+            result = compare.CaseResult(name, kind, noise, regime, oracle_seconds=record["oracle_seconds"])
+            result.outcomes = [compare.Outcome(**o) for o in record["outcomes"]]
+            cases[name] = result
+            failed.pop(name, None)
+    return list(cases.values()), list(failed.values())
+
+
+def print_system_tables(case_results: list[compare.CaseResult], oracle_failed: list[tuple]) -> None:
+    print(system_table(case_results, "By regime (runs = systems × filter/recursion/trajectory)",
+                       lambda r: r.regime))
+    print()
+    print(system_table(case_results, "By kind and noise (all regimes)", lambda r: f"{r.kind}, {r.noise}"))
+    print()
+    print(failed_cases(case_results))
+    print()
+    if oracle_failed:
+        print(f"Oracle failures (cases left out of the counts): {len(oracle_failed)}")
+        for _, name, msg in oracle_failed[:20]:
+            print(f"  {name}: {msg}")
+        print()
+
+
 def _log_line(log, record: dict) -> None:
     if log is not None:
         log.write(json.dumps(record) + "\n")
@@ -241,7 +276,16 @@ def main(argv=None) -> None:
     ap.add_argument("--time-limit", type=float, default=None, metavar="SECONDS",
                     help="stop starting tasks after this long and report the tasks finished (the "
                          "title says how many systems that is)")
+    ap.add_argument("--from-log", type=Path, nargs="+", default=None, metavar="FILE",
+                    help="print the system tables of --log files instead of running")
     args = ap.parse_args(argv)
+    if args.from_log:
+        case_results, oracle_failed = read_log(args.from_log)
+        systems = len({r.name.split("-")[0] for r in case_results})
+        print(f"## setsmooth reliability from {', '.join(map(str, args.from_log))}: {systems} systems, "
+              f"{len(case_results)} cases\n")
+        print_system_tables(case_results, oracle_failed)
+        return
     estimators = tuple(e.strip() for e in args.estimators.split(",") if e.strip())
     unknown = [e for e in estimators if e not in compare.ESTIMATORS]
     if unknown or not estimators:
@@ -298,11 +342,7 @@ def main(argv=None) -> None:
     print(f"\n## setsmooth reliability: seed {args.seed}, {systems_done} systems{first} (T = {args.T_range[0]}.."
           f"{args.T_range[1]}, n = {args.n_range[0]}..{args.n_range[1]}) × {len(REGIMES)} regimes × "
           f"{len(estimators)} estimators ({', '.join(estimators)}; {elapsed:.0f} s on {args.workers} workers)\n")
-    print(system_table(case_results, "By regime (runs = systems × filter/recursion/trajectory)",
-                       lambda r: r.regime))
-    print()
-    print(system_table(case_results, "By kind and noise (all regimes)", lambda r: f"{r.kind}, {r.noise}"))
-    print()
+    print_system_tables(case_results, oracle_failed)
     if long_runs:
         print(system_table(long_runs, f"Issue 8: example (31), triangle-CZ W, T = {args.horizon}",
                            lambda r: "triangle W"))
@@ -311,13 +351,6 @@ def main(argv=None) -> None:
     print()
     print(witness_table(witnesses))
     print()
-    print(failed_cases(case_results))
-    print()
-    if oracle_failed:
-        print(f"Oracle failures (cases left out of the counts): {len(oracle_failed)}")
-        for _, name, msg in oracle_failed[:10]:
-            print(f"  {name}: {msg}")
-        print()
     oracle_t = np.median([r.oracle_seconds for r in case_results]) if case_results else float("nan")
     est_t = {e: np.median([o.seconds for r in case_results for o in r.outcomes if o.estimator == e])
              for e in estimators} if case_results else {}
