@@ -51,6 +51,13 @@ RUIZ_SWEEPS = 3
 INDEPENDENT_RCOND = 1e-6
 
 
+#: HiGHS's tolerances for the simplex fallback, on the presolved program (unit rows, |η| ≤ 1). Its
+#: defaults (1e-7) left duality gaps of ~1e-7 of the objective's scale, which a certified bound
+#: built on the multipliers keeps: 1.1e-6 of w + σ on the recursion smoother's hulls of an
+#: unstable system at noise 1e-6 (reliability case 001).
+SIMPLEX_OPTIONS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
+
+
 @dataclass(frozen=True)
 class Presolved:
     """The presolved factor set (see the module docstring).
@@ -300,7 +307,7 @@ def simplex(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]
     m, p = pre.A.shape
     bounds = np.where(pre.bounded[:, None], [[-1.0, 1.0]], [[-np.inf, np.inf]])
     res = linprog(q, A_eq=pre.A if m else None, b_eq=pre.b if m else None, bounds=bounds,
-                  method="highs")
+                  method="highs", options=SIMPLEX_OPTIONS)
     names = {0: "AlmostSolved", 1: "MaxIterations", 2: "PrimalInfeasible", 3: "DualInfeasible"}
     name = names.get(res.status, "NumericalError")
     if res.status == 2 and "infeasible" not in res.message.lower():
