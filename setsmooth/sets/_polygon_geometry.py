@@ -72,13 +72,27 @@ def certified_hull(points: np.ndarray) -> tuple[np.ndarray, float]:
         for j in range(len(chain)):
             o, a, b = rows[chain[j - 1]], rows[chain[j]], rows[chain[(j + 1) % len(chain)]]
             if not _certainly_left(*o, *a, *b):
-                del chain[j]
+                # o, a, b are nearly collinear: drop the one between the other two (a itself, or
+                # at a hairpin, a needle's tip, the neighbour nearer to a), not an end of the needle.
+                del chain[_middle_of(j, o, a, b) % len(chain)]
                 changed = True
                 break
     H = pts[chain]
     keep = np.zeros(len(pts), dtype=bool)
     keep[chain] = True
     return H, distance_bound(pts[~keep], H)
+
+
+def _middle_of(j: int, o: tuple, a: tuple, b: tuple) -> int:
+    """Chain index (j − 1, j or j + 1) of the point of the nearly collinear o, a, b lying between
+    the other two: the one off the farthest pair (the choice affects the charge only, never soundness)."""
+    def far(p, q):
+        return abs(p[0] - q[0]) + abs(p[1] - q[1])
+
+    ob, oa, ab = far(o, b), far(o, a), far(a, b)
+    if ob >= oa and ob >= ab:
+        return j
+    return j - 1 if ab >= oa else j + 1
 
 
 def is_certified_chain(V: np.ndarray) -> bool:
@@ -131,7 +145,7 @@ def distance_bound(P: np.ndarray, H: np.ndarray) -> float:
             t = ((Q[:, None, :] - A[None]) * E[None]).sum(axis=2) / length2
         t = np.clip(np.nan_to_num(t, nan=0.0), 0.0, 1.0)
         S = A[None] + t[..., None] * E[None]
-        dist = np.sqrt(((Q[:, None, :] - S) ** 2).sum(axis=2))
+        dist = np.hypot(Q[:, None, 0] - S[..., 0], Q[:, None, 1] - S[..., 1])
         scale = (np.abs(Q).max(axis=1)[:, None] + np.abs(A).max(axis=1)[None] + np.abs(B).max(axis=1)[None])
         bound = dist * (1 + 8 * U) + 8 * U * scale + TINY
         cost[todo] = bound.min(axis=1)
@@ -198,17 +212,24 @@ def h_form(V: np.ndarray, pad: float) -> tuple[np.ndarray, np.ndarray]:
             N = E[:, ::-1] * [1.0, -1.0]
     dots = N @ V.T
     err = 4 * U * (np.abs(N) @ np.abs(V).T) + TINY
-    h = (dots + err).max(axis=1) + np.sqrt((N * N).sum(axis=1)) * pad * (1 + 4 * U)
+    h = (dots + err).max(axis=1) + np.hypot(N[:, 0], N[:, 1]) * pad * (1 + 4 * U)
     return N, np.nextafter(h + np.abs(h) * 2 * U + TINY, np.inf)
 
 
 def spectral_norm_bound(A: np.ndarray) -> float:
     """An upper bound on ‖A‖₂ of a 2×2 matrix: σ² = (F + √(F² − 4 det²))/2 with F = ‖A‖_F², each
-    rounding covered (the cancellation in F² − 4det² by an absolute term)."""
+    rounding covered (the cancellation in F² − 4det² by an absolute term). A is first scaled by a
+    power of two (exactly) so that its largest entry lies in [1/2, 1): F² can neither overflow nor
+    underflow."""
+    top = float(np.abs(A).max())
+    if top == 0.0:
+        return 0.0
+    e = math.frexp(top)[1]
+    A = np.ldexp(A, -e)
     F = float((A * A).sum())
     det = float(A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0])
     det_err = 4 * U * float(abs(A[0, 0] * A[1, 1]) + abs(A[0, 1] * A[1, 0]))
     det_lo = max(abs(det) - det_err, 0.0)
     disc = max(F * F - 4 * det_lo * det_lo, 0.0) + 16 * U * F * F
     sigma2 = (F * (1 + 4 * U) + math.sqrt(disc) * (1 + 4 * U)) / 2 * (1 + 4 * U)
-    return up(math.sqrt(sigma2) * (1 + 4 * U) + TINY)
+    return up(math.ldexp(up(math.sqrt(sigma2) * (1 + 4 * U) + TINY), e))

@@ -16,7 +16,7 @@ import cvxpy as cp
 import numpy as np
 import scipy.sparse as sp
 
-from .._validation import as_matrix
+from .._validation import as_matrix, real_number
 from . import _matrices as mx
 from . import _polygon_geometry as geo
 from .base import ConvexSet
@@ -69,9 +69,12 @@ class Polygon(ConvexSet):
 
     def __init__(self, vertices: Any, pad: float = 0.0):
         V = as_matrix(vertices, "vertices", cols=2)
+        if np.ndim(vertices) != 2:  # no silent reshape of a flat list into one point
+            raise ValueError(f"vertices must be a (k, 2) array of points, got an array of shape "
+                             f"{np.shape(vertices)}")
         if V.shape[0] == 0:
             raise ValueError("vertices must hold at least one point (the empty set is EmptySet(2))")
-        pad = float(pad)
+        pad = real_number(pad, "pad")
         if not np.isfinite(pad) or pad < 0:
             raise ValueError(f"pad must be a finite number ≥ 0, got {pad}")
         self._init(*_hulled(V, pad))
@@ -125,7 +128,7 @@ class Polygon(ConvexSet):
         err = 4 * U * (np.abs(D) @ np.abs(self.vertices).T) + geo.TINY
         best = np.argmax(dots, axis=1)
         values = (dots + err).max(axis=1)
-        values = values + np.abs(values) * 2 * U + np.sqrt((D * D).sum(axis=1)) * self.pad * (1 + 4 * U)
+        values = values + np.abs(values) * 2 * U + np.hypot(D[:, 0], D[:, 1]) * self.pad * (1 + 4 * U)
         return np.nextafter(values, np.inf), self.vertices[best].copy()
 
     def _is_empty(self) -> bool:
@@ -144,8 +147,9 @@ class Polygon(ConvexSet):
         V = self.vertices
         image = V @ M.T
         err = 3 * U * float((np.abs(V) @ np.abs(M).T).max()) * geo.SQRT2_UP + geo.TINY
-        pad = geo.spectral_norm_bound(M) * self.pad * (1 + 4 * U) + err
-        if M[0, 0] * M[1, 1] < M[0, 1] * M[1, 0]:  # probably orientation-reversing: try the chain reversed
+        pad = (geo.spectral_norm_bound(M) * self.pad * (1 + 4 * U) if self.pad else 0.0) + err
+        Ms = M / max(float(np.abs(M).max()), np.finfo(float).tiny)  # no overflow in the products
+        if Ms[0, 0] * Ms[1, 1] < Ms[0, 1] * Ms[1, 0]:  # probably orientation-reversing: chain reversed
             image = image[::-1]
         return Polygon._trusted(*_hulled(image, geo.up(pad), ordered=True))
 
@@ -209,7 +213,7 @@ def _clip_all(V: np.ndarray, pad: float, rows: np.ndarray, h: np.ndarray, row_er
 
     x_bound = np.abs(V).max(axis=0) + pad
     slack = row_err @ x_bound
-    norms = np.sqrt((rows * rows).sum(axis=1))
+    norms = np.hypot(rows[:, 0], rows[:, 1])
     finite = np.isfinite(h)
     rows, h, slack, norms = rows[finite], h[finite], slack[finite], norms[finite]
     # Half-planes that no vertex certainly violates leave the polygon as it is (skipping a cut is

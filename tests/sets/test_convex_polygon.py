@@ -18,6 +18,7 @@ from hypothesis import given, settings, strategies as st
 
 import setsmooth as ss
 from setsmooth.sets import _polygon_geometry as geo
+from setsmooth.sets.algebra import linear_map
 from setsmooth.sets.convex_polygon import Polygon
 
 from . import polygon_reference as ref
@@ -315,3 +316,61 @@ def test_zonotope_with_nearly_parallel_generators_is_enclosed(angle):
               Fraction(float(c[1])) + sum(s * Fraction(float(g)) for s, g in zip(signs, G[1])))
              for signs in np.array(np.meshgrid(*[[-1, 1]] * 3)).T.reshape(-1, 3).tolist()]
     assert_tight_outer(Polygon.from_set(ss.Zonotope(G, c)), ref.hull(exact))
+
+
+# -- regressions from the adversarial review ----------------------------------------------------------
+def test_a_needle_keeps_its_tip():
+    """At a needle's tip the turn is a hairpin, as uncertifiable as a straight turn: the hull step
+    dropped the tip itself and charged its distance (1.9) to the pad. Now the point between the
+    other two is dropped, which is the needle's middle point, never an end."""
+    pts = np.array([[1.1710095898981792, -6.803189504413681], [1.6334268182736131, -8.672457946520598],
+                    [-1.7910849580590829, 5.170736900720171]])
+    P = Polygon(pts)
+    assert P.pad <= 1e-12
+    assert_tight_outer(P, ref.exact_points(pts))
+
+
+def test_a_fat_polygon_keeps_a_vertex_at_a_nearly_straight_turn():
+    pts = np.array([[0.0, 0.0], [1e-17, -1.0], [1e-17, 1.0], [5.0, 0.0]])
+    P = Polygon(pts)
+    assert P.pad <= 1e-12
+    assert_tight_outer(P, ref.exact_points(pts))
+
+
+def test_the_rounding_of_the_noise_image_is_charged():
+    """B W computed in floating point (fl(B c) with cancellation) was taken as exact: a point noise
+    set whose exact image is (-3.0e-18, 9.7e-18) got certified hulls at (4.6e-19, 1.5e-17)."""
+    B = np.array([[0.10490011715303971, -0.535669373161111, -0.13109099775757493],
+                  [1.3040000451301372, 0.9470809631292422, -0.0606446583254687]])
+    w = np.array([0.1257302210933933, -0.1321048632913019, 0.6404226504432821])
+    system = ss.LinearSystem(np.eye(2), B, np.eye(2), np.eye(2), W=ss.Box(w, w),
+                             V=ss.Box([-10.0, -10.0], [10.0, 10.0]))
+    P = ss.classical_filter(system, ss.Box([0.0, 0.0], [0.0, 0.0]), np.zeros((2, 2)), form="polygon")[1]
+    exact = [sum(Fraction(float(b)) * Fraction(float(x)) for b, x in zip(row, w)) for row in B]
+    hull = P.interval_hull(certified=True)
+    for i in range(2):
+        assert Fraction(float(hull.hi[i])) >= exact[i] and Fraction(float(hull.lo[i])) <= exact[i]
+        assert hull.hi[i] - hull.lo[i] <= 1e-14
+
+
+@pytest.mark.parametrize("scale", [1e-100, 1e160])
+def test_the_spectral_norm_bound_neither_underflows_nor_overflows(scale):
+    M = scale * np.array([[1.0, 1.0], [1.0, 1.0]])
+    bound = geo.spectral_norm_bound(M)
+    assert np.isfinite(bound) and bound >= 2 * scale
+    P = linear_map(M, Polygon(np.array([[0.0, 0.0]]), pad=1.0))
+    assert np.isfinite(P.pad) and P.pad >= 2 * scale * (1 - 1e-15)
+
+
+def test_tiny_polygons_and_directions_do_not_underflow():
+    P = Polygon(np.array([[0.0, 0.0], [1e-200, 0.0], [0.0, 1e-200]]))
+    assert P.support([0.0, 1.0], certified=True) >= 1e-200
+    assert Polygon(np.array([[0.0, 0.0]]), pad=1.0).support([1e-170, 0.0], certified=True) >= 1e-170
+
+
+@pytest.mark.parametrize("vertices, pad, name", [([1.0, 2.0], 0.0, "vertices"), ([[0.0, 0.0]], "x", "pad"),
+                                                 ([[0.0, 0.0]], [1.0, 2.0], "pad"),
+                                                 ([[0.0, 0.0]], -1.0, "pad")])
+def test_bad_polygon_input_names_the_argument(vertices, pad, name):
+    with pytest.raises((TypeError, ValueError), match=name):
+        Polygon(vertices, pad=pad)
