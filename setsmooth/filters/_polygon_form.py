@@ -18,7 +18,11 @@ from ..sets.algebra import linear_map, minkowski_sum, translate
 from ..sets.base import ConvexSet
 from ..sets.convex_polygon import Polygon, as_polygon, half_planes
 from ..sets.empty import EmptySet
-from ..sets._polygon_geometry import TINY, U
+from ..sets._polygon_geometry import SQRT2_UP, TINY, U, up
+from ..sets.box import Box
+from ..sets.hpolytope import HPolytope
+from ..sets.vpolytope import VPolytope
+from ..sets.zonotope import Zonotope
 
 
 def polygon_posteriors(system, X0: ConvexSet, ys: np.ndarray) -> list[ConvexSet]:
@@ -54,18 +58,50 @@ def polygon_posteriors(system, X0: ConvexSet, ys: np.ndarray) -> list[ConvexSet]
 
 
 def _noise_polygon(system, k: int) -> Polygon:
-    image = as_polygon(system.process_noise_image(k))
+    image = noise_polygon(system, k)
     if image is None:
         raise ValueError(f"form='polygon' needs B W with a polygon form (W a Box, Zonotope, VPolytope "
                          f"or Polygon); B({k}) W is a {type(system.process_noise_image(k)).__name__}")
     return image
 
 
+def noise_polygon(system, k: int, negated: bool = False) -> Polygon | None:
+    """B_k W (or B_k(−W)) as a Polygon with the rounding of the image charged (`_charged`), or None
+    when it has no polygon form. The smoother's step (`smoothers.linear`) adds it to polygon
+    posteriors: the set algebra's image alone is computed in floating point, uncharged."""
+    image = as_polygon(system.process_noise_image(k, negated=negated))
+    return None if image is None else _charged(image, system.B(k), system.W)
+
+
+def _charged(P: Polygon, M, S) -> Polygon:
+    """P, the polygon of the set algebra's M S, with the rounding of that image charged: fl(M G),
+    fl(M c) of S's zonotope form (≤ (p + 1)u|M|(|c| + |G|1) per coordinate), fl(points Mᵀ) of a
+    VPolytope, and a Box's conversion to c ± r (≤ u max(|lo|, |hi|))."""
+    M = np.abs(np.asarray(M.toarray() if hasattr(M, "toarray") else M, dtype=float))
+    if isinstance(S, Box):
+        bound = M @ np.maximum(np.abs(S.lo), np.abs(S.hi))
+    elif isinstance(S, Zonotope):
+        bound = M @ (np.abs(S.c) + np.abs(S.G).sum(axis=1))
+    elif isinstance(S, VPolytope):
+        bound = (np.abs(S.points) @ M.T).max(axis=0)
+    else:                                   # a Polygon: mapped by Polygon's own charged closed form
+        return P
+    charge = SQRT2_UP * (M.shape[1] + 4) * U * float(bound.max()) * (1 + 4 * U) + TINY
+    return Polygon._trusted(P.vertices, up(P.pad + charge))
+
+
 def _measurement_cut(system, k: int, prior: Polygon, y: np.ndarray) -> ConvexSet:
     """{x ∈ prior : C_k x ∈ y_k + D_k(−V)} with y_k + D_k(−V) ⊆ {z : N z ≤ h + N y_k}, the offset
     rounded up by its error bound (≤ (m + 2)u(|N||y| + |h|))."""
     Y = system.measurement_noise_image(k)
-    halves = half_planes(Y)
+    D = system.D(k)
+    D = D.toarray() if hasattr(D, "toarray") else np.asarray(D)
+    if isinstance(system.V, (Box, HPolytope)) and D.shape[0] == D.shape[1] and np.array_equal(D, np.eye(len(D))):
+        NV, hV = half_planes(system.V)      # D(−V) = −V = {z : −NV z ≤ hV}, exactly
+        halves = (-NV, hV)
+    else:
+        P_Y = as_polygon(Y)
+        halves = None if P_Y is None else _charged(P_Y, D, system.V).half_planes()
     if halves is None:
         raise ValueError(f"form='polygon' needs D(−V) with half-planes (V a Box or HPolytope, or a "
                          f"2-D Zonotope, VPolytope or Polygon); D({k})(−V) is a {type(Y).__name__} of "

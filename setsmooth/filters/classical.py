@@ -68,9 +68,11 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
         smoother reads). Sets without a CZ form always take the trajectory program. 'polygon'
         (n = 2 with X0, W, V polytopes: Box, Zonotope, VPolytope, Polygon; V also an HPolytope)
         gives `Polygon`s computed in closed form, each containing the exact posterior and larger
-        only by rounding (certified hulls without a solver, ~10× faster on example (31)); an empty
-        posterior is reported only when certainly empty. ``optimal_smoother(method='recursion',
-        posteriors=...)`` smooths them in closed form too.
+        only by rounding (certified hulls without a solver, ~10× faster on example (31)); a
+        posterior certainly empty is an `EmptySet` from there on whatever ``detect_empty`` (a
+        `Polygon` is never empty). ``optimal_smoother(method='recursion', posteriors=...)`` smooths
+        them in closed form too. Not with ``reduce`` (a ValueError: the reduced filter has its own
+        recursion).
 
     Returns
     -------
@@ -89,6 +91,9 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
     _check_state_set(X0, "X0", system.n)
     if form not in FORMS:
         raise ValueError(f"form must be one of {FORMS}, got {form!r}")
+    if reduce is not None and form != "auto":
+        raise ValueError(f"form={form!r} chooses how the exact filter computes its sets; with reduce= "
+                         "the filter is the reduced recursion (pass one of form= and reduce=)")
     if reduce is not None:
         return SetEstimates(_reduced_filter(system, X0, ys, as_methods(reduce, "reduce"), detect_empty),
                             system=system, X0=X0, ys=ys, kind="filtered", outer=True)

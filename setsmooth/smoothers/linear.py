@@ -26,6 +26,7 @@ from ..filters.classical import classical_filter
 from ..results import SetEstimates
 from ..sets.algebra import generalized_intersection, minkowski_sum, translate
 from ..sets.base import ConvexSet
+from ..sets.convex_polygon import Polygon
 from ..trajectories import trajectory_set
 
 _METHODS = ("auto", "recursion", "trajectory")
@@ -149,7 +150,14 @@ def smoothing_step(system, k: int, posterior: ConvexSet, next_smoothed: ConvexSe
 def _smoothing_step(system, k: int, posterior: ConvexSet, next_smoothed: ConvexSet) -> ConvexSet:
     # Trusted operands (matrices validated by the LinearSystem, sets by the public door), so the set
     # algebra is called directly. An empty next_smoothed needs no case here: the algebra absorbs it.
-    reachable_from = minkowski_sum(next_smoothed, system.process_noise_image(k, negated=True))
+    noise = system.process_noise_image(k, negated=True)
+    if isinstance(next_smoothed, Polygon):
+        # Polygons charge every rounding to their pad; the algebra's image B_k(−W) is computed in
+        # floating point, so its polygon comes with that rounding charged too.
+        from ..filters._polygon_form import noise_polygon
+
+        noise = noise_polygon(system, k, negated=True) or noise
+    reachable_from = minkowski_sum(next_smoothed, noise)
     u = system.nonzero_input(k)
     if u is not None:
         reachable_from = translate(reachable_from, -u)
