@@ -51,6 +51,11 @@ RUIZ_SWEEPS = 3
 INDEPENDENT_RCOND = 1e-6
 
 
+#: Largest kept-rows × columns count for which dependent rows are looked for (the dense Gram matrix
+#: or QR of the rows: 3e7 entries, 240 MB). Beyond it the fallback goes to the simplex method, whose
+#: own presolve handles dependent rows; the recursion smoother's CZs reach it at T ≈ 40.
+DEPENDENT_DENSE_MAX = 30_000_000
+
 #: HiGHS's tolerances for the simplex fallback, on the presolved program (unit rows, |η| ≤ 1). Its
 #: defaults (1e-7) left duality gaps of ~1e-7 of the objective's scale, which a certified bound
 #: built on the multipliers keeps: 1.1e-6 of w + σ on the recursion smoother's hulls of an
@@ -214,6 +219,8 @@ def presolve(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray, *, dependent: bool)
     scale_b = 1.0 + np.abs(bs[nonzero]).max(initial=0.0)
     empty = bool(np.any(np.abs(b[~nonzero]) > np.sqrt(tol.RANK_TOL) * scale_b))
     rows = np.flatnonzero(nonzero)
+    if dependent and rows.size * M.shape[1] > DEPENDENT_DENSE_MAX:
+        dependent = False  # not looked for: memory stays bounded (see DEPENDENT_DENSE_MAX)
     if dependent and rows.size > 1 and not empty and not _well_conditioned(M, rows):
         basis = independent_rows(M[rows] if rows.size < nc else M, bs[rows])
         empty = not basis.consistent

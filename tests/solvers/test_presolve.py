@@ -86,6 +86,24 @@ def test_presolve_drops_fixed_factors_zero_rows_and_dependent_rows():
     assert zero_row.empty  # 0 = 3
 
 
+def test_programs_beyond_the_dense_limit_skip_the_dependent_rows_and_still_answer(monkeypatch):
+    """Above `DEPENDENT_DENSE_MAX` the dense Gram/QR of the rows is not formed (its memory grows as
+    m·p): no dependent row is looked for, and the answers still come (HiGHS's presolve handles the
+    dependent rows in the fallback)."""
+    import setsmooth.solvers.presolve as presolve_module
+
+    A = sp.csc_matrix(np.array([[1.0, 2.0, 0.0], [2.0, 4.0, 0.0], [0.0, 1.0, 5.0]]))
+    b = np.array([1.0, 2.0, 0.5])
+    monkeypatch.setattr(presolve_module, "DEPENDENT_DENSE_MAX", 5)
+    monkeypatch.setattr(presolve_module, "_well_conditioned", lambda *a: pytest.fail("dense test run"))
+    pre = presolve(A, b, np.ones(3), dependent=True)
+    assert not pre.dependent_checked and len(pre.rows) == 3
+    Z = ss.ConstrainedZonotope(np.eye(3), np.zeros(3), A=A.toarray(), b=b)
+    D = np.vstack([np.eye(3), -np.eye(3)])
+    values = Z.support_many(D, certified=True)
+    np.testing.assert_allclose(values, [highs_support(Z, d) for d in D], atol=1e-7)
+
+
 def test_dependent_rows_make_no_difference_to_the_answers():
     Z = random_cz(7)
     A = np.vstack([Z.A, 3.0 * Z.A[:1] - 1e-3 * Z.A[1:2]])
