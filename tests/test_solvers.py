@@ -39,6 +39,15 @@ def test_a_stalled_interior_point_solve_is_settled_by_the_verified_simplex_fallb
     np.testing.assert_allclose(nontrivial_cz().support_many(np.eye(3)), exact, atol=1e-8)
 
 
+def test_a_stalled_phase_one_program_is_settled_by_the_simplex_method(monkeypatch):
+    """The elastic phase-one program is always feasible and bounded: where Clarabel stalls on it,
+    HiGHS decides emptiness (both ways) instead of a SolverError."""
+    patched_settings(monkeypatch, max_iter=1)
+    assert not nontrivial_cz().is_empty()
+    empty = ss.ConstrainedZonotope(np.eye(2), np.zeros(2), A=[[1.0, 1.0], [1.0, -1.0]], b=[1.5, 1.2])
+    assert empty.is_empty()  # ξ1 = 1.35 > 1
+
+
 def test_a_stalled_membership_program_is_settled_by_the_simplex_method(monkeypatch):
     Z = nontrivial_cz()
     member = Z.support_point([1.0, 0.5, 0.0])
@@ -47,10 +56,17 @@ def test_a_stalled_membership_program_is_settled_by_the_simplex_method(monkeypat
     assert nontrivial_cz().contains(member) and not nontrivial_cz().contains(outside)
 
 
-def test_a_solver_stopped_early_raises_solver_error_carrying_its_status(monkeypatch):
-    patched_settings(monkeypatch, max_iter=1)
+def _no_simplex_fallback(monkeypatch):
+    """Make every simplex fallback fail, as on data no solver settles."""
     monkeypatch.setattr(solvers.factor_set, "simplex", lambda pre, q: (
         "MaxIterations", np.full(pre.A.shape[1], np.nan), np.full(pre.A.shape[0], np.nan)))
+    monkeypatch.setattr(solvers.factor_set, "simplex_inequalities", lambda q, rows, r: (
+        "MaxIterations", np.full(rows.shape[1], np.nan), np.full(rows.shape[0], np.nan)))
+
+
+def test_a_solver_stopped_early_raises_solver_error_carrying_its_status(monkeypatch):
+    patched_settings(monkeypatch, max_iter=1)
+    _no_simplex_fallback(monkeypatch)
     Z = nontrivial_cz()
     with pytest.raises(ss.SolverError, match="MaxIterations") as info:
         Z.support([1.0, 1.0, 0.0])
@@ -75,8 +91,7 @@ def test_a_certified_value_bounds_the_exact_support_even_at_reduced_accuracy(mon
     exact = nontrivial_cz().support([1.0, 1.0, 0.0])
     patched_settings(monkeypatch, max_iter=5, reduced_tol_gap_abs=1e-2, reduced_tol_gap_rel=1e-2,
                      reduced_tol_feas=1e-2)
-    monkeypatch.setattr(solvers.factor_set, "simplex", lambda pre, q: (  # no fallback settles it
-        "MaxIterations", np.full(pre.A.shape[1], np.nan), np.full(pre.A.shape[0], np.nan)))
+    _no_simplex_fallback(monkeypatch)  # no fallback settles it
     assert nontrivial_cz().support([1.0, 1.0, 0.0], certified=True) >= exact
     with pytest.raises(ss.SolverError) as info:
         nontrivial_cz().support([1.0, 1.0, 0.0])  # the unverified primal value is refused

@@ -138,7 +138,13 @@ class CZProgram:
         if rows.size:
             values, points, xis, lams, bounds = (a.copy() for a in (values, points, xis, lams,
                                                                     bounds))
-            v2, p2, x2, l2 = self._solve(D[rows], must_certify, True, escalate=True)
+            try:
+                v2, p2, x2, l2 = self._solve(D[rows], must_certify, True, escalate=True)
+            except SolverError:
+                # Escalation only tries to tighten a bracket that already holds a sound bound: its
+                # failure keeps the first answer (capped by its bound below) instead of raising.
+                v2 = np.full(rows.size, np.nan)
+                p2 = x2 = l2 = None
             ok = np.isfinite(v2)
             b2 = None
             if ok.any():
@@ -149,7 +155,7 @@ class CZProgram:
                         raise
             if b2 is not None:
                 r = rows[ok]
-                better = (b2 - v2[ok]) < (bounds[r] - values[r])
+                better = (b2 - v2[ok]) < np.abs(bounds[r] - values[r])  # an inverted bracket too
                 take = r[better]
                 values[take], points[take] = v2[ok][better], p2[ok][better]
                 xis[take], lams[take] = x2[ok][better], l2[ok][better]

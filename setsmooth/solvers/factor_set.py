@@ -42,7 +42,7 @@ from .. import tolerances as tol
 from . import clarabel_lp
 from .clarabel_lp import SolverError, _csc, _index_type, _zero_cost, solve_lp
 from .instances import cached_instance
-from .presolve import Presolved, presolve, project_free, simplex
+from .presolve import Presolved, presolve, project_free, simplex, simplex_inequalities
 
 __all__ = ["FactorConstraints", "Maximized", "STACK_MAX_VARIABLES", "DENSE_PRESOLVE_MAX"]
 
@@ -435,11 +435,16 @@ class FactorConstraints:
                                         clarabel_lp.settings(refine=True))
         sol = solver.solve()
         name = str(sol.status).split(".")[-1]
+        x, z = np.asarray(sol.x), np.asarray(sol.z)
         if name != "Solved":
-            raise SolverError(name, context, kind="support")
-        z = np.asarray(sol.z)
+            # The relaxed program is feasible (ρ covers the phase-one residual) and bounded: the
+            # simplex method settles what the interior-point method did not (reliability case 069
+            # at noise 1e3, a set the measurements pin to a sliver).
+            fallback, x, z = simplex_inequalities(q, rows, r)
+            if fallback != "optimal":
+                raise SolverError(name, context, kind="support")
         lam_hat = z[:m] - z[m:2 * m] + lam0  # Âᵀ(z⁺ − z⁻) cancels the objective as Âᵀλ̂ would
-        return Maximized("relaxed", pre.factors(np.asarray(sol.x)[None, :], self.ng)[0],
+        return Maximized("relaxed", pre.factors(x[None, :], self.ng)[0],
                          pre.multipliers(lam_hat[None], np.array([sigma]), self.nc)[0])
 
     # -- emptiness ---------------------------------------------------------------------------------
@@ -505,6 +510,16 @@ class FactorConstraints:
                                                                or x[-1] > 10 * limit)):
                 self._phase_one = min(float(x[-1]), upper)
                 return bool(x[-1] > limit and upper > limit)
+        # The phase-one program is always feasible and bounded; where Clarabel calls it infeasible
+        # or stalls (reliability case 072 at offset 1e6: states 1e28, the data consistent only to
+        # their rounding), the simplex method decides it.
+        status, x, _ = simplex_inequalities(cost, rows, r)
+        if status == "optimal":
+            eta = x[:p].copy()
+            eta[pre.bounded] = np.clip(eta[pre.bounded], -1.0, 1.0)
+            upper = float(np.abs(pre.A @ eta - pre.b).max(initial=0.0))
+            self._phase_one = min(float(x[-1]), upper)
+            return bool(x[-1] > limit and upper > limit)
         raise SolverError(last, context, kind="emptiness")
 
     # -- recession ---------------------------------------------------------------------------------

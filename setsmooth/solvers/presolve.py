@@ -39,7 +39,7 @@ import scipy.sparse as sp
 from .. import tolerances as tol
 from ..linalg import independent_rows
 
-__all__ = ["Presolved", "presolve", "simplex", "project_free", "RUIZ_SWEEPS", "INDEPENDENT_RCOND"]
+__all__ = ["Presolved", "presolve", "simplex", "simplex_inequalities", "project_free", "RUIZ_SWEEPS", "INDEPENDENT_RCOND"]
 
 #: Equilibration sweeps with free factors (each scales the free columns, then the rows holding only
 #: free factors, to unit ∞-norm); without free factors one row normalization is exact.
@@ -323,6 +323,22 @@ def simplex(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]
         return name, np.full(p, np.nan), np.full(m, np.nan)
     # HiGHS's marginals are ∂(min)/∂b_eq, i.e. q = Âᵀy + (bound duals): λ̂ = −y.
     return name, np.asarray(res.x), -np.asarray(res.eqlin.marginals)
+
+
+def simplex_inequalities(q: np.ndarray, rows: sp.csc_matrix, r: np.ndarray
+                         ) -> tuple[str, np.ndarray, np.ndarray]:
+    """min qᵀx subject to rows·x ≤ r (x free) by HiGHS (SciPy), in Clarabel's convention for the
+    multipliers (z ≥ 0, q + rowsᵀz = 0): ('optimal', x, z), or (HiGHS's status, NaNs, NaNs). The
+    fallback of the always-feasible programs (phase one, the relaxed support program)."""
+    from scipy.optimize import linprog
+
+    n, k = rows.shape[1], rows.shape[0]
+    res = linprog(q, A_ub=rows, b_ub=r, bounds=[(None, None)] * n, method="highs",
+                  options=SIMPLEX_OPTIONS)
+    if res.status != 0:
+        return f"status {res.status}", np.full(n, np.nan), np.full(k, np.nan)
+    # HiGHS's marginals are ∂(min)/∂b_ub ≤ 0: q = −rowsᵀy, so z = −y.
+    return "optimal", np.asarray(res.x), -np.asarray(res.ineqlin.marginals)
 
 
 def project_free(pre: Presolved, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -165,3 +165,13 @@ def test_an_oracle_program_thinner_than_the_rounding_of_its_data_is_still_solved
     case = in_regime(base_case(2026, 74), "offset1e+06")
     result = compare_case(case, estimators=("filter",))
     assert not result.failed, describe(result)
+
+
+def test_a_sliver_at_noise_1e3_is_answered_not_raised():
+    """Case 069 at noise 1e3 (non-square D, CZ noises: the measurements pin the state to a sliver):
+    an escalated direction found the simplex method calling the sliver infeasible at 1e-10 and the
+    relaxed program's interior-point solve stalled ('AlmostSolved'), so the trajectory smoother's
+    hull raised. The relaxed program (always feasible) now falls back to the simplex method."""
+    case = in_regime(base_case(2026, 69), "scale1e+03")
+    result = compare_case(case, estimators=("trajectory",))
+    assert not any(o.error for o in result.outcomes), describe(result)
