@@ -62,6 +62,8 @@ def _no_simplex_fallback(monkeypatch):
         "MaxIterations", np.full(pre.A.shape[1], np.nan), np.full(pre.A.shape[0], np.nan)))
     monkeypatch.setattr(solvers.factor_set, "simplex_inequalities", lambda q, rows, r: (
         "MaxIterations", np.full(rows.shape[1], np.nan), np.full(rows.shape[0], np.nan)))
+    monkeypatch.setattr(solvers.factor_set, "simplex_box_equalities", lambda q, A: (
+        "MaxIterations", np.full(A.shape[1], np.nan)))
 
 
 def test_a_solver_stopped_early_raises_solver_error_carrying_its_status(monkeypatch):

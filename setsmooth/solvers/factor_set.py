@@ -42,7 +42,8 @@ from .. import tolerances as tol
 from . import clarabel_lp
 from .clarabel_lp import SolverError, _csc, _index_type, _zero_cost, solve_lp
 from .instances import cached_instance
-from .presolve import Presolved, presolve, project_free, simplex, simplex_inequalities
+from .presolve import (Presolved, presolve, project_free, simplex, simplex_box_equalities,
+                       simplex_inequalities)
 
 __all__ = ["FactorConstraints", "Maximized", "STACK_MAX_VARIABLES", "DENSE_PRESOLVE_MAX"]
 
@@ -560,7 +561,14 @@ class FactorConstraints:
             rhs = np.concatenate([np.zeros(w * m), np.ones(2 * w * nf)])
             sol = solve_lp(-gF[rows].reshape(-1), M, rhs, w * m, 2 * w * nf, context, refine=True,
                            kind="recession")
-            if sol.status != "optimal":
-                raise SolverError(sol.status, context, kind="recession")
-            gains[rows] = np.einsum("ij,ij->i", gF[rows], sol.x.reshape(w, nf))
+            if sol.status == "optimal":
+                gains[rows] = np.einsum("ij,ij->i", gF[rows], sol.x.reshape(w, nf))
+                continue
+            # The program is feasible (η = 0) and bounded: the simplex method settles it where the
+            # interior-point method could not (reliability case 176 at noise 1e-6: 'inaccurate').
+            for i in range(start, start + w):
+                status, eta = simplex_box_equalities(-gF[i], AF)
+                if status != "optimal":
+                    raise SolverError(sol.status, context, kind="recession")
+                gains[i] = float(gF[i] @ eta)
         return gains > tol.REDUCED_COST_TOL

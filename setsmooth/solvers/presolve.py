@@ -39,7 +39,8 @@ import scipy.sparse as sp
 from .. import tolerances as tol
 from ..linalg import independent_rows
 
-__all__ = ["Presolved", "presolve", "simplex", "simplex_inequalities", "project_free", "RUIZ_SWEEPS", "INDEPENDENT_RCOND"]
+__all__ = ["Presolved", "presolve", "simplex", "simplex_inequalities", "simplex_box_equalities",
+           "project_free", "RUIZ_SWEEPS", "INDEPENDENT_RCOND"]
 
 #: Equilibration sweeps with free factors (each scales the free columns, then the rows holding only
 #: free factors, to unit ∞-norm); without free factors one row normalization is exact.
@@ -339,6 +340,19 @@ def simplex_inequalities(q: np.ndarray, rows: sp.csc_matrix, r: np.ndarray
         return f"status {res.status}", np.full(n, np.nan), np.full(k, np.nan)
     # HiGHS's marginals are ∂(min)/∂b_ub ≤ 0: q = −rowsᵀy, so z = −y.
     return "optimal", np.asarray(res.x), -np.asarray(res.ineqlin.marginals)
+
+
+def simplex_box_equalities(q: np.ndarray, A: sp.csc_matrix) -> tuple[str, np.ndarray]:
+    """min qᵀη subject to Aη = 0, |η| ≤ 1 by HiGHS (SciPy): ('optimal', η) or (its status, NaNs).
+    The fallback of the recession program (feasible at η = 0, bounded)."""
+    from scipy.optimize import linprog
+
+    m, n = A.shape
+    res = linprog(q, A_eq=A if m else None, b_eq=np.zeros(m) if m else None, bounds=(-1.0, 1.0),
+                  method="highs", options=SIMPLEX_OPTIONS)
+    if res.status != 0:
+        return f"status {res.status}", np.full(n, np.nan)
+    return "optimal", np.asarray(res.x)
 
 
 def project_free(pre: Presolved, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -175,3 +175,12 @@ def test_a_sliver_at_noise_1e3_is_answered_not_raised():
     case = in_regime(base_case(2026, 69), "scale1e+03")
     result = compare_case(case, estimators=("trajectory",))
     assert not any(o.error for o in result.outcomes), describe(result)
+
+
+def test_a_recession_program_clarabel_cannot_settle_goes_to_the_simplex_method():
+    """Case 176 at noise 1e-6 (unstable, CZ noises): Clarabel ended the recession program (feasible
+    at η = 0, bounded) 'inaccurate', and the filter's and the smoother's hulls raised. HiGHS now
+    settles it; the hulls are scored against the oracle."""
+    case = in_regime(base_case(2026, 176), "scale1e-06")
+    result = compare_case(case, estimators=("filter",))
+    assert not result.failed, describe(result)
