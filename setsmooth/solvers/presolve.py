@@ -111,6 +111,11 @@ class Presolved:
         return sp.csr_matrix(self.A.T)
 
     @cached_property
+    def free_columns(self) -> sp.csc_matrix:
+        """Â_F, the free factors' columns, kept (`project_free` needs them per direction)."""
+        return sp.csc_matrix(self.A[:, ~self.bounded])
+
+    @cached_property
     def _free_rows(self) -> tuple[np.ndarray, sp.csr_matrix]:
         """The free factors' indices and their rows of Âᵀ."""
         free = np.flatnonzero(~self.bounded)
@@ -361,28 +366,20 @@ def project_free(pre: Presolved, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     factors, which the recession program found to be within tolerance.
 
     λ₀ is the least-norm solution through the normal equations of Â_F (one sparse LU per presolved
-    program and thread, refined: `certify.correct_multipliers`) when Â_F has full column rank, and
-    by lsqr otherwise. (lsqr on every direction cost 25 ms each on a trajectory set of n = 5,
-    T = 27, reliability case 150: 95 % of its smoother's time.)
+    program and thread, refined), or by lsqr when Â_F is rank deficient: `certify.correct_multipliers`
+    from λ = 0. (lsqr on every direction cost 25 ms each on a trajectory set of n = 5, T = 27,
+    reliability case 150: 95 % of its smoother's time.)
     """
     from .certify import correct_multipliers, normal_solver
     from .instances import cached_instance
 
     free = ~pre.bounded
-    AF = sp.csc_matrix(pre.A[:, free])
+    AF = pre.free_columns
     solve_normal = cached_instance(pre, "normal equations of the free factors",
                                    lambda: normal_solver(AF))
-    if solve_normal is not None:
-        lam0 = correct_multipliers(AF, -q[free][None, :], np.zeros((1, pre.A.shape[0])),
-                                   solve_normal)[0]
-    else:
-        from scipy.sparse.linalg import lsqr
-
-        # lsqr's default of 2·m iterations left residuals of 1e-5 on trajectory-sized programs,
-        # which the free factors' values multiply into the objective: a wrong support value.
-        lam0 = lsqr(AF.T.tocsr(), -q[free], atol=1e-15, btol=1e-15,
-                    iter_lim=10 * pre.A.shape[0] + 50)[0]
-    shifted = q + pre.A.T @ lam0
+    lam0 = correct_multipliers(AF, -q[free][None, :], np.zeros((1, pre.A.shape[0])),
+                               solve_normal, pre._free_rows[1])[0]
+    shifted = q + pre.At @ lam0
     shifted[free] = 0.0
     return shifted, lam0
 
