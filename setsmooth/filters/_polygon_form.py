@@ -14,12 +14,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..sets._polygon_geometry import SQRT2_UP, TINY, U, up
 from ..sets.algebra import linear_map, minkowski_sum, translate
 from ..sets.base import ConvexSet
+from ..sets.box import Box
 from ..sets.convex_polygon import Polygon, as_polygon, half_planes
 from ..sets.empty import EmptySet
-from ..sets._polygon_geometry import SQRT2_UP, TINY, U, up
-from ..sets.box import Box
 from ..sets.hpolytope import HPolytope
 from ..sets.vpolytope import VPolytope
 from ..sets.zonotope import Zonotope
@@ -96,7 +96,8 @@ def _measurement_cut(system, k: int, prior: Polygon, y: np.ndarray) -> ConvexSet
     Y = system.measurement_noise_image(k)
     D = system.D(k)
     D = D.toarray() if hasattr(D, "toarray") else np.asarray(D)
-    if isinstance(system.V, (Box, HPolytope)) and D.shape[0] == D.shape[1] and np.array_equal(D, np.eye(len(D))):
+    identity_D = D.shape[0] == D.shape[1] and np.array_equal(D, np.eye(len(D)))
+    if isinstance(system.V, (Box, HPolytope)) and identity_D:
         NV, hV = half_planes(system.V)      # D(−V) = −V = {z : −NV z ≤ hV}, exactly
         halves = (-NV, hV)
     else:
