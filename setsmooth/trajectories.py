@@ -40,6 +40,7 @@ import scipy.sparse as sp
 
 from ._validation import as_measurements
 from .sets.base import ConvexSet
+from .sets import rounding
 from .sets.constrained_zonotope import ConstrainedZonotope
 from .solvers.factor_set import FactorConstraints
 from .trajectory_program import TrajectorySet
@@ -232,6 +233,15 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
     eye = np.eye(n)
     nominal = np.empty((steps + 1, n))  # x̄_start..x̄_stop, the CZ's centre
     nominal[0] = Z0.c
+    # The rows' rounding slack (`setsmooth.sets.rounding`): the operands' own (their rows, and their
+    # pads where they enter a row), the nominal trajectory's rounding, and the rounding of the
+    # products B G_w, D G_v and of the measurement rows' right-hand sides.
+    slack = [_zeros_or(Z0.slack, Z0.nc), np.tile(_zeros_or(Zw.slack, Zw.nc), steps),
+             np.tile(_zeros_or(Zv.slack, Zv.nc), steps + 1), _zeros_or(Z0.pad, n)]
+    # per unit of ‖ξ_F‖∞, where an operand's free columns were rounded (none in the estimators)
+    slack_free = [_zeros_or(Z0.slack_free, Z0.nc), np.tile(_zeros_or(Zw.slack_free, Zw.nc), steps),
+                  np.tile(_zeros_or(Zv.slack_free, Zv.nc), steps + 1), _zeros_or(Z0.pad_free, n)]
+    Bw_charge = Dv_charge = None
     # x_start ∈ prior
     A.put(row, 0, eye)
     A.put(row, col_x0, -Z0.G)
@@ -241,31 +251,58 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
     Gw = _dense(Zw.G)
     for j in range(steps):
         k = start + j
-        Bk = system.B(k)
-        nominal[j + 1] = system.A(k) @ nominal[j] + Bk @ Zw.c + system.input_term(k)
+        Bk, Ak, uk = system.B(k), system.A(k), system.input_term(k)
+        nominal[j + 1] = Ak @ nominal[j] + Bk @ Zw.c + uk
         A.put(row, (j + 1) * n, eye)
-        A.put(row, j * n, -system.A(k))
+        A.put(row, j * n, -Ak)
         A.put(row, col_w + j * Zw.ng, -(Bk @ Gw))
         rhs.append(np.zeros(n))
+        # x_{j+1} − A x_j − B G_w ξ_w − B e_w = B c_w + u − (x̄_{j+1} − A x̄_j): the nominal's error.
+        magnitude = np.abs(Ak) @ np.abs(nominal[j]) + np.abs(Bk) @ np.abs(Zw.c) + np.abs(uk)
+        if Bw_charge is None or not system.B.is_constant:
+            Bw_charge = _product_charge(Bk, Gw, Zw)
+        slack.append(rounding.add(2.0 * rounding.gamma(n + Bk.shape[1] + 3) * magnitude,
+                                  Bw_charge[0]))
+        slack_free.append(Bw_charge[1])
         row += n
     # measurements
     Gv = _dense(Zv.G)
     for j in range(steps + 1):
         k = start + j
-        Dk = system.D(k)
-        A.put(row, j * n, system.C(k))
+        Dk, Ck = system.D(k), system.C(k)
+        A.put(row, j * n, Ck)
         A.put(row, col_v + j * Zv.ng, Dk @ Gv)
-        rhs.append(ys[k] - Dk @ Zv.c - system.C(k) @ nominal[j])
+        rhs.append(ys[k] - Dk @ Zv.c - Ck @ nominal[j])
+        magnitude = np.abs(ys[k]) + np.abs(Dk) @ np.abs(Zv.c) + np.abs(Ck) @ np.abs(nominal[j])
+        if Dv_charge is None or not system.D.is_constant:
+            Dv_charge = _product_charge(Dk, Gv, Zv)
+        slack.append(rounding.add(2.0 * rounding.gamma(n + Dk.shape[1] + 3) * magnitude,
+                                  Dv_charge[0]))
+        slack_free.append(Dv_charge[1])
         row += m
 
     A_matrix = A.to_csc((row, n_factors))
     b = np.concatenate(rhs)
+    slack, slack_free = np.concatenate(slack), np.concatenate(slack_free)
     G = sp.csc_matrix((np.ones(n_states), (np.arange(n_states), np.arange(n_states))),
                       shape=(n_states, n_factors))
     h = np.concatenate([np.full(n_states, np.inf), Z0.h, np.tile(Zw.h, steps), np.tile(Zv.h, steps + 1)])
     # The factor set is created now, so that every projection shares one.
     return ConstrainedZonotope._trusted(G, nominal.reshape(-1), A_matrix, b, h,
-                                        TrajectoryFactors(A_matrix, b, h))
+                                        TrajectoryFactors(A_matrix, b, h, slack, slack_free))
+
+
+def _zeros_or(v: np.ndarray | None, size: int) -> np.ndarray:
+    return np.zeros(size) if v is None else np.asarray(v, dtype=float)
+
+
+def _product_charge(M: np.ndarray, G: np.ndarray, Z: ConstrainedZonotope
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """What the row M·(c + Gξ + e) loses to the rounding of M G and to Z's pad e (`linear_image`):
+    Σ_j h_j |fl(M G)_j − (M G)_j| + |M| pad, and the part per unit of ‖ξ_F‖∞."""
+    charge, free = rounding.linear_image(M, G, np.zeros(G.shape[0]), Z.h, Z.pad, Z.pad_free)
+    return (np.zeros(M.shape[0]) if charge is None else charge,
+            np.zeros(M.shape[0]) if free is None else free)
 
 
 class TrajectoryFactors(FactorConstraints):
@@ -280,7 +317,7 @@ class TrajectoryFactors(FactorConstraints):
         if self._free_bound is None:
             from .trajectory_certificate import banded_free_factor_bound
 
-            bound = banded_free_factor_bound(self.A, self.b, self.h)
+            bound = banded_free_factor_bound(self.A, self.b, self.h, self.slack, self.slack_free)
             if bound is None:
                 return super().free_bound()
             self._free_bound = (bound,)

@@ -110,7 +110,9 @@ def gram_lower_bound(AF: sp.spmatrix) -> float | None:
     return float(bound) if bound > 0 else None
 
 
-def banded_free_factor_bound(A: sp.spmatrix, b: np.ndarray, h: np.ndarray) -> float | None:
+def banded_free_factor_bound(A: sp.spmatrix, b: np.ndarray, h: np.ndarray,
+                             slack: np.ndarray | None = None,
+                             slack_free: np.ndarray | None = None) -> float | None:
     """β ≥ max ‖ξ_F‖∞ over {ξ : Aξ = b, |ξ| ≤ h} (`certify.free_factor_bound`) from the banded
     λ_min bound, or None when the free factors' Gram matrix is not banded or not proven definite.
 
@@ -120,6 +122,8 @@ def banded_free_factor_bound(A: sp.spmatrix, b: np.ndarray, h: np.ndarray) -> fl
     b : ndarray, shape (nc,)
     h : ndarray, shape (ng,)
         Factor bounds; the free factors (h = ∞) in an order that makes A_FᵀA_F banded.
+    slack, slack_free : ndarray, shape (nc,), optional
+        The rows' rounding charges: the bound holds on the relaxed set (`certify.free_factor_bound`).
 
     Returns
     -------
@@ -133,4 +137,4 @@ def banded_free_factor_bound(A: sp.spmatrix, b: np.ndarray, h: np.ndarray) -> fl
     lam_min = gram_lower_bound(AF)
     if lam_min is None:
         return None
-    return free_factor_bound(A, b, h, lam_min=lam_min, AF=AF)
+    return free_factor_bound(A, b, h, lam_min=lam_min, AF=AF, slack=slack, slack_free=slack_free)

@@ -9,6 +9,7 @@ import numpy as np
 
 from .._validation import as_vector, check_rng
 from . import _matrices as mx
+from . import rounding
 from .base import ConvexSet
 
 
@@ -125,20 +126,22 @@ class Box(ConvexSet):
         finite = np.isfinite(self.lo) & np.isfinite(self.hi)
         if not np.all(free | finite):
             return None  # a half-line has no CZ form
-        with np.errstate(invalid="ignore"):  # −∞ + ∞ on free coordinates, replaced by np.where
-            radius = np.where(finite, (self.hi - self.lo) / 2, 1.0)
-            center = np.where(finite, (self.lo + self.hi) / 2, 0.0)
+        lo, hi = np.where(finite, self.lo, 0.0), np.where(finite, self.hi, 0.0)
+        center, radius, pad = rounding.box_center_radius(lo, hi)
+        radius = np.where(finite, radius, 1.0)
         h = np.where(finite, 1.0, np.inf)
         return ConstrainedZonotope._trusted(np.diag(radius), center, np.zeros((0, self.dim)),
-                                            np.zeros(0), h)
+                                            np.zeros(0), h, pad=pad)
 
     def to_zonotope(self):
-        """The box as the zonotope Z(diag(r), m) with radius r and midpoint m (bounded boxes)."""
+        """The box as the zonotope Z(diag(r), m) with radius r and midpoint m (bounded boxes); where
+        m ± r is not exactly [lo, hi] in floating point, the zonotope's pad holds the difference."""
         from .zonotope import Zonotope
 
         if not self.is_bounded:
             raise ValueError("an unbounded box has no zonotope form")
-        return Zonotope._trusted(np.diag((self.hi - self.lo) / 2), (self.hi + self.lo) / 2)
+        center, radius, pad = rounding.box_center_radius(self.lo, self.hi)
+        return Zonotope._trusted(np.diag(radius), center, pad)
 
     def to_hpolytope(self):
         """The box as {x : [I; −I] x ≤ [hi; −lo]} (finite faces only)."""
@@ -152,7 +155,8 @@ class Box(ConvexSet):
 
     # -- closed-form algebra -----------------------------------------------------------------------
     def _closed_translate(self, v: np.ndarray) -> "Box":
-        return Box._trusted(self.lo + v, self.hi + v)
+        # Rounded outward: the box holds every point of the exact translate.
+        return Box._trusted(rounding.sum_down(self.lo, v), rounding.sum_up(self.hi, v))
 
     def _project(self, idx: np.ndarray) -> "Box":
         return Box._trusted(self.lo[idx], self.hi[idx])
@@ -164,7 +168,7 @@ class Box(ConvexSet):
 
     def _closed_sum(self, other):
         if isinstance(other, Box):
-            return Box._trusted(self.lo + other.lo, self.hi + other.hi)
+            return Box._trusted(rounding.sum_down(self.lo, other.lo), rounding.sum_up(self.hi, other.hi))
         return NotImplemented
 
     def _closed_intersection(self, other):

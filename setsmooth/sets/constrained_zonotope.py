@@ -25,6 +25,7 @@ import scipy.sparse as sp
 from .._validation import as_matrix, as_vector, real_array
 from ..solvers import CZProgram, FactorConstraints, SupportSolution
 from . import _matrices as mx
+from . import rounding
 from .base import ConvexSet
 
 
@@ -79,21 +80,82 @@ class ConstrainedZonotope(ConvexSet):
                 raise ValueError("h must lie in [0, inf] (no NaN, no negative bounds)")
         self._init(G, c, A, b, h, None)
 
-    def _init(self, G, c, A, b, h, factors: FactorConstraints | None) -> None:
+    def _init(self, G, c, A, b, h, factors: FactorConstraints | None,
+              pad: np.ndarray | None = None, slack: np.ndarray | None = None,
+              pad_free: np.ndarray | None = None, slack_free: np.ndarray | None = None) -> None:
         self.G = G if sp.issparse(G) else mx.readonly(G)
         self.c = mx.readonly(c)
         self.A = A if sp.issparse(A) else mx.readonly(A)
         self.b = mx.readonly(b)
         self.h = mx.readonly(h)
         self.dim = self.G.shape[0]
+        if factors is not None and slack is None and slack_free is None:
+            slack, slack_free = factors.slack, factors.slack_free
         self._factors = factors
+        # The algebra's own rounding (`setsmooth.sets.rounding`): None where nothing was rounded.
+        # A point of the exact set is within pad + pad_free·‖ξ_F‖∞ of c + Gξ, for ξ with
+        # |Aξ − b| ≤ slack + slack_free·‖ξ_F‖∞ (ξ_F: the free factors).
+        self.pad = None if pad is None else mx.readonly(pad)
+        self.pad_free = None if pad_free is None else mx.readonly(pad_free)
+        self._slack = None if slack is None else mx.readonly(slack)
+        self._slack_free = None if slack_free is None else mx.readonly(slack_free)
+
+    @property
+    def slack(self) -> np.ndarray | None:
+        """Rounding slack of the constraint rows (`setsmooth.sets.rounding`), None when exact."""
+        return self._slack
+
+    @property
+    def slack_free(self) -> np.ndarray | None:
+        """The rows' rounding slack per unit of ‖ξ_F‖∞ (rounded free columns), None when exact."""
+        return self._slack_free
 
     @classmethod
-    def _trusted(cls, G, c, A, b, h, factors: FactorConstraints | None = None) -> "ConstrainedZonotope":
+    def _trusted(cls, G, c, A, b, h, factors: FactorConstraints | None = None,
+                 pad: np.ndarray | None = None, slack: np.ndarray | None = None,
+                 pad_free: np.ndarray | None = None, slack_free: np.ndarray | None = None
+                 ) -> "ConstrainedZonotope":
         """Build without validation (internal: operands already validated)."""
         obj = cls.__new__(ConstrainedZonotope)
-        obj._init(G, c, A, b, h, factors)
+        obj._init(G, c, A, b, h, factors, pad, slack, pad_free, slack_free)
         return obj
+
+    def materialized(self) -> "ConstrainedZonotope":
+        """The same enclosure with the rounding charges written as generators (pad and slack zero).
+
+        ``pad`` becomes a box generator per padded coordinate, ``slack`` a column diag(slack) in A
+        (with a zero generator), each with bound 1: the result, as stored, contains every point this
+        CZ's charges cover. For code that reads G, c, A, b, h directly (order reductions, programs
+        built from a CZ's data).
+        """
+        if self.pad is None and self._slack is None and self.pad_free is None \
+                and self._slack_free is None:
+            return self
+        pad, slack = self.pad, self._slack
+        if self.pad_free is not None or self._slack_free is not None:
+            beta = self.factors.free_bound()
+            if beta is None:
+                raise ValueError("this CZ's free factors have rounded columns and no known bound: "
+                                 "its rounding cannot be written as bounded generators")
+            pad = rounding.add(pad, None if self.pad_free is None else self.pad_free * beta)
+            slack = rounding.add(slack, None if self._slack_free is None else self._slack_free * beta)
+        G, A, h = self.G, self.A, self.h
+        sparse = mx.any_sparse(G, A)
+        if slack is not None:
+            rows = np.flatnonzero(slack)
+            S = sp.csc_matrix((slack[rows], (rows, np.arange(rows.size))),
+                              shape=(self.nc, rows.size))
+            A = mx.hstack([A, S if sparse else S.toarray()])
+            G = mx.hstack([G, mx.zeros_like_kind(self.dim, rows.size, sparse)])
+            h = np.concatenate([h, np.ones(rows.size)])
+        if pad is not None:
+            rows = np.flatnonzero(pad)
+            P = sp.csc_matrix((pad[rows], (rows, np.arange(rows.size))),
+                              shape=(self.dim, rows.size))
+            G = mx.hstack([G, P if sparse else P.toarray()])
+            A = mx.hstack([A, mx.zeros_like_kind(self.nc, rows.size, sparse)])
+            h = np.concatenate([h, np.ones(rows.size)])
+        return ConstrainedZonotope._trusted(G, self.c, A, self.b, h)
 
     # -- sizes -----------------------------------------------------------------------------------------
     @property
@@ -139,20 +201,36 @@ class ConstrainedZonotope(ConvexSet):
     def factors(self) -> FactorConstraints:
         """The factor set {ξ : Aξ = b, |ξ| ≤ h}, shared with every map and projection of this CZ."""
         if self._factors is None:
-            self._factors = FactorConstraints(self.A, self.b, self.h)
+            self._factors = FactorConstraints(self.A, self.b, self.h, self._slack, self._slack_free)
         return self._factors
 
     @cached_property
     def _program(self) -> CZProgram:
-        return CZProgram(self.G, self.c, self.factors)
+        return CZProgram(self.G, self.c, self.factors, self.pad, self.pad_free)
 
     def _as_constrained_zonotope(self) -> "ConstrainedZonotope":
         return self
 
     def _support(self, D: np.ndarray, certified: bool):
         if self.nc == 0:
-            return self._unconstrained_support(D)
+            values, points = self._unconstrained_support(D)
+            if certified is not False:
+                values = self._certified_closed_form(D, values)
+            return values, points
         return self._program.support(D, certified)
+
+    def _certified_closed_form(self, D: np.ndarray, values: np.ndarray) -> np.ndarray:
+        """Upper bounds on the closed-form support values dᵀc + Σ_j h_j |(Gᵀd)_j| (no constraints):
+        their rounding (γ over the n + ng products and sums) and the pad, charged."""
+        absG = abs(self.G) if sp.issparse(self.G) else np.abs(self.G)
+        hf = np.where(np.isfinite(self.h), self.h, 0.0)
+        magnitude = np.abs(D) @ np.abs(self.c) + np.asarray((absG.T @ np.abs(D).T).T) @ hf
+        err = 2.0 * rounding.gamma(self.dim + self.ng + 2) * magnitude
+        extra = 0.0 if self.pad is None else rounding.abs_matvec(D, self.pad)
+        with np.errstate(invalid="ignore"):
+            out = values + rounding.rounded_up(err + extra, self.dim + 2)
+        out = np.where(np.isfinite(values), np.nextafter(out, np.inf), values)
+        return out
 
     def _interval_hulls_at_once(self) -> dict | None:
         # The plain hull's solves also certify it (`CZProgram.support_and_bounds`): computing one
@@ -266,12 +344,17 @@ class ConstrainedZonotope(ConvexSet):
 
     # -- closed-form algebra ---------------------------------------------------------------------------
     def _linear_map(self, M) -> "ConstrainedZonotope":
-        """M Z = Z(MG, Mc, A, b, h) (smoothing paper (35), stability (11))."""
+        """M Z = Z(MG, Mc, A, b, h) (smoothing paper (35), stability (11)), its rounding charged."""
+        pad, pad_free = rounding.linear_image(M, self.G, self.c, self.h, self.pad, self.pad_free)
         return ConstrainedZonotope._trusted(mx.matmul(M, self.G), np.asarray(M @ self.c).reshape(-1),
-                                            self.A, self.b, self.h, self._factors)
+                                            self.A, self.b, self.h, self._factors, pad, self._slack,
+                                            pad_free, self._slack_free)
 
     def _translate(self, v: np.ndarray) -> "ConstrainedZonotope":
-        return ConstrainedZonotope._trusted(self.G, self.c + v, self.A, self.b, self.h, self._factors)
+        c, err = rounding.sum_with_error(self.c, v)
+        return ConstrainedZonotope._trusted(self.G, c, self.A, self.b, self.h, self._factors,
+                                            rounding.add(self.pad, err if err.any() else None),
+                                            self._slack, self.pad_free, self._slack_free)
 
     # The algebra hooks are these two exact CZ operations.
     def _closed_linear_map(self, M) -> "ConstrainedZonotope":
@@ -282,27 +365,41 @@ class ConstrainedZonotope(ConvexSet):
 
     def _project(self, idx: np.ndarray) -> "ConstrainedZonotope":
         G = self.G[idx] if not sp.issparse(self.G) else sp.csc_matrix(self.G.tocsr()[idx])
-        return ConstrainedZonotope._trusted(G, self.c[idx], self.A, self.b, self.h, self._factors)
+        return ConstrainedZonotope._trusted(G, self.c[idx], self.A, self.b, self.h, self._factors,
+                                            None if self.pad is None else self.pad[idx], self._slack,
+                                            None if self.pad_free is None else self.pad_free[idx],
+                                            self._slack_free)
 
     def _minkowski_sum(self, other: "ConstrainedZonotope") -> "ConstrainedZonotope":
-        """Z ⊕ W (smoothing paper (36))."""
+        """Z ⊕ W (smoothing paper (36)); the rounding of c_Z + c_W charged to the pad."""
         A, b, h = mx.block_diag(self.A, other.A), np.concatenate([self.b, other.b]), \
             np.concatenate([self.h, other.h])
-        return ConstrainedZonotope._trusted(mx.hstack([self.G, other.G]), self.c + other.c, A, b, h,
-                                            _joined_factors(A, b, h, self, other))
+        c, err = rounding.sum_with_error(self.c, other.c)
+        pad = rounding.add(self.pad, other.pad, err if err.any() else None)
+        slack, slack_free = _stacked_slack((self, other))
+        return ConstrainedZonotope._trusted(mx.hstack([self.G, other.G]), c, A, b, h,
+                                            _joined_factors(A, b, h, slack, slack_free, self, other),
+                                            pad, slack, rounding.add(self.pad_free, other.pad_free),
+                                            slack_free)
 
     def _cartesian_product(self, other: "ConstrainedZonotope") -> "ConstrainedZonotope":
         A, b, h = mx.block_diag(self.A, other.A), np.concatenate([self.b, other.b]), \
             np.concatenate([self.h, other.h])
+        slack, slack_free = _stacked_slack((self, other))
         return ConstrainedZonotope._trusted(
             mx.block_diag(self.G, other.G), np.concatenate([self.c, other.c]), A, b, h,
-            _joined_factors(A, b, h, self, other))
+            _joined_factors(A, b, h, slack, slack_free, self, other),
+            _stacked((self.pad, other.pad), (self.dim, other.dim)), slack,
+            _stacked((self.pad_free, other.pad_free), (self.dim, other.dim)), slack_free)
 
     def _generalized_intersection(self, R, Y: "ConstrainedZonotope") -> "ConstrainedZonotope":
         """Z ∩_R Y = {z ∈ Z : Rz ∈ Y} (smoothing paper (37); stability (21) with R = C).
 
         G = [G_z 0], c = c_z, A = [[A_z, 0], [0, A_y], [R G_z, −G_y]], b = [b_z; b_y; c_y − R c_z],
-        h = [h_z; h_y].
+        h = [h_z; h_y]. The new rows' slack charges what they lost (`setsmooth.sets.rounding`): for
+        z = c_z + G_zξ + e_z and Rz = c_y + G_yη + e_y exactly, the stored row fl(R G_z)ξ − G_yη − b_new
+        equals (fl(R G_z) − R G_z)ξ + (c_y − R c_z − b_new) + e_y − R e_z, bounded by
+        Σ_j h_j |error of (R G_z)_j| + |error of b_new| + pad_y + |R| pad_z.
         """
         sparse = mx.any_sparse(self.G, self.A, Y.G, Y.A, R)
         RG = mx.matmul(R, self.G)
@@ -313,19 +410,45 @@ class ConstrainedZonotope(ConvexSet):
         if sparse and not sp.issparse(A):
             A = sp.csc_matrix(A)
         G = mx.hstack([self.G, mx.zeros_like_kind(self.dim, Y.ng, sp.issparse(self.G))])
-        b = np.concatenate([self.b, Y.b, Y.c - np.asarray(R @ self.c).reshape(-1)])
+        Rc = np.asarray(R @ self.c).reshape(-1)
+        b_new, err_b = rounding.sum_with_error(Y.c, -Rc)
+        # |fl(R c_z) − R c_z| and |fl(R G_z) − R G_z|·h are `linear_image`'s pad of R·Z (with R's
+        # image of Z's pad); the subtraction's exact error and Y's pad complete the row's charge.
+        image, image_free = rounding.linear_image(R, self.G, self.c, self.h, self.pad, self.pad_free)
+        new_rows = rounding.add(image, err_b if err_b.any() else None, Y.pad)
+        new_rows_free = rounding.add(image_free, Y.pad_free)
+        b = np.concatenate([self.b, Y.b, b_new])
         h = np.concatenate([self.h, Y.h])
-        return ConstrainedZonotope._trusted(G, self.c, A, b, h, _joined_factors(A, b, h, self, Y))
+        slack, slack_free = _stacked_slack((self, Y), (new_rows, new_rows_free), R.shape[0])
+        return ConstrainedZonotope._trusted(G, self.c, A, b, h,
+                                            _joined_factors(A, b, h, slack, slack_free, self, Y),
+                                            self.pad, slack, self.pad_free, slack_free)
 
 
-def _joined_factors(A, b, h, *operands: "ConstrainedZonotope") -> FactorConstraints | None:
+def _stacked(parts, sizes) -> np.ndarray | None:
+    """Vectors one below the other (None meaning zeros of its size); None if all are None."""
+    if all(p is None for p in parts):
+        return None
+    return np.concatenate([np.zeros(k) if p is None else p for p, k in zip(parts, sizes)])
+
+
+def _stacked_slack(operands, extra=(None, None), n_extra: int = 0):
+    """(slack, slack_free): the operands' row charges one below the other, then ``extra``'s for
+    ``n_extra`` new rows."""
+    sizes = [Z.nc for Z in operands] + [n_extra]
+    return (_stacked([Z.slack for Z in operands] + [extra[0]], sizes),
+            _stacked([Z.slack_free for Z in operands] + [extra[1]], sizes))
+
+
+def _joined_factors(A, b, h, slack, slack_free,
+                    *operands: "ConstrainedZonotope") -> FactorConstraints | None:
     """The factor set of a CZ built from ``operands``' factors side by side (None: built lazily).
 
     Only when an operand has free factors: their known bounds carry over (`FactorConstraints.joined`).
     """
     if all(np.isfinite(Z.h).all() for Z in operands):
         return None
-    return FactorConstraints.joined(A, b, h, [Z.factors for Z in operands])
+    return FactorConstraints.joined(A, b, h, [Z.factors for Z in operands], slack, slack_free)
 
 
 def _column_max(M) -> np.ndarray:

@@ -11,6 +11,7 @@ import scipy.sparse as sp
 
 from .._validation import as_matrix, as_vector
 from . import _matrices as mx
+from . import rounding
 from .base import ConvexSet
 
 
@@ -37,16 +38,28 @@ class Zonotope(ConvexSet):
         c = as_vector(c, "c", G.shape[0])
         self._init(G, c)
 
-    def _init(self, G: np.ndarray, c: np.ndarray) -> None:
+    def _init(self, G: np.ndarray, c: np.ndarray, pad: np.ndarray | None = None) -> None:
         self.G = mx.readonly(G)
         self.c = mx.readonly(c)
         self.dim = self.G.shape[0]
+        #: The algebra's rounding (`setsmooth.sets.rounding`): every point of the exact set is within
+        #: ``pad`` (componentwise) of a point of Z(G, c); None when nothing was rounded.
+        self.pad = None if pad is None else mx.readonly(pad)
 
     @classmethod
-    def _trusted(cls, G: np.ndarray, c: np.ndarray) -> "Zonotope":
+    def _trusted(cls, G: np.ndarray, c: np.ndarray, pad: np.ndarray | None = None) -> "Zonotope":
         obj = cls.__new__(cls)
-        obj._init(G, c)
+        obj._init(G, c, pad)
         return obj
+
+    def materialized(self) -> "Zonotope":
+        """The same enclosure with the pad written as generators (one per padded coordinate)."""
+        if self.pad is None:
+            return self
+        rows = np.flatnonzero(self.pad)
+        P = np.zeros((self.dim, rows.size))
+        P[rows, np.arange(rows.size)] = self.pad[rows]
+        return Zonotope._trusted(np.hstack([self.G, P]), self.c)
 
     @property
     def ng(self) -> int:
@@ -62,20 +75,33 @@ class Zonotope(ConvexSet):
 
     # -- closed forms ------------------------------------------------------------------------------
     def _support(self, D: np.ndarray, certified: bool):
-        """h_Z(d) = dᵀc + ‖Gᵀd‖₁, attained at c + G sign(Gᵀd)."""
+        """h_Z(d) = dᵀc + ‖Gᵀd‖₁, attained at c + G sign(Gᵀd); ``certified``: plus the bound on its
+        rounding (γ over the n + ng products and sums) and |d|ᵀpad."""
         g = D @ self.G
         values = D @ self.c + np.abs(g).sum(axis=1)
         points = np.sign(g) @ self.G.T + self.c
+        if certified:
+            magnitude = np.abs(D) @ np.abs(self.c) + np.abs(D) @ np.abs(self.G).sum(axis=1)
+            err = 2.0 * rounding.gamma(self.dim + self.ng + 2) * magnitude
+            if self.pad is not None:
+                err = err + rounding.abs_matvec(D, self.pad)
+            values = np.nextafter(values + rounding.rounded_up(err, self.dim + 2), np.inf)
         return values, points
 
     def interval_hull(self, *, path: str = "auto", certified: bool = False):
-        """[c − r, c + r] with r = Σ_j |G_{:,j}| (no program)."""
+        """[c − r, c + r] with r = Σ_j |G_{:,j}| (no program); ``certified`` (or a padded
+        zonotope): r and the pad rounded up and the bounds rounded outward."""
         if self._check_path(path) == "generic":
             return super().interval_hull(path=path, certified=certified)
         from .box import Box
 
         r = np.abs(self.G).sum(axis=1)
-        return Box._trusted(self.c - r, self.c + r)
+        if not certified and self.pad is None:
+            return Box._trusted(self.c - r, self.c + r)
+        r = rounding.rounded_up(r, self.ng)
+        if self.pad is not None:
+            r = rounding.add(r, self.pad)
+        return Box._trusted(rounding.sum_down(self.c, -r), rounding.sum_up(self.c, r))
 
     def _is_empty(self) -> bool:
         return False
@@ -84,32 +110,40 @@ class Zonotope(ConvexSet):
         from .constrained_zonotope import ConstrainedZonotope
 
         return ConstrainedZonotope._trusted(self.G, self.c, np.zeros((0, self.ng)), np.zeros(0),
-                                            np.ones(self.ng))
+                                            np.ones(self.ng), pad=self.pad)
 
     # -- closed-form algebra -----------------------------------------------------------------------
     def _closed_linear_map(self, M) -> "Zonotope":
         M = M.toarray() if sp.issparse(M) else M
-        return Zonotope._trusted(M @ self.G, M @ self.c)
+        pad, _ = rounding.linear_image(M, self.G, self.c, np.ones(self.ng), self.pad)
+        return Zonotope._trusted(M @ self.G, M @ self.c, pad)
 
     def _closed_translate(self, v: np.ndarray) -> "Zonotope":
-        return Zonotope._trusted(self.G, self.c + v)
+        c, err = rounding.sum_with_error(self.c, v)
+        return Zonotope._trusted(self.G, c, rounding.add(self.pad, err if err.any() else None))
 
     def _project(self, idx: np.ndarray) -> "Zonotope":
-        return Zonotope._trusted(self.G[idx], self.c[idx])
+        return Zonotope._trusted(self.G[idx], self.c[idx], None if self.pad is None else self.pad[idx])
 
     def _closed_sum(self, other):
         other = _as_zonotope(other)
         if other is None:
             return NotImplemented
-        return Zonotope._trusted(np.hstack([self.G, other.G]), self.c + other.c)
+        c, err = rounding.sum_with_error(self.c, other.c)
+        return Zonotope._trusted(np.hstack([self.G, other.G]), c,
+                                 rounding.add(self.pad, other.pad, err if err.any() else None))
 
     def _closed_product(self, other):
         other = _as_zonotope(other)
         if other is None:
             return NotImplemented
         # Dense like every G here (mx.block_diag would turn a large product sparse).
+        pad = None
+        if self.pad is not None or other.pad is not None:
+            pad = np.concatenate([np.zeros(self.dim) if self.pad is None else self.pad,
+                                  np.zeros(other.dim) if other.pad is None else other.pad])
         return Zonotope._trusted(scipy.linalg.block_diag(self.G, other.G),
-                                 np.concatenate([self.c, other.c]))
+                                 np.concatenate([self.c, other.c]), pad)
 
 
 def _as_zonotope(S):

@@ -43,7 +43,9 @@ def gamma(n: int | np.ndarray) -> np.ndarray:
 
 
 def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray,
-                      lam_min: float | None = None, AF: sp.csc_matrix | None = None) -> float | None:
+                      lam_min: float | None = None, AF: sp.csc_matrix | None = None,
+                      slack: np.ndarray | None = None,
+                      slack_free: np.ndarray | None = None) -> float | None:
     """A rigorous bound β ≥ max_{ξ ∈ F} ‖ξ_F‖∞ on the free factors, or None when none is found.
 
     Parameters
@@ -57,6 +59,12 @@ def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray,
         eigenvalue computation and its size limit.
     AF : csc_matrix, optional
         A[:, free] when the caller has it.
+    slack : ndarray, shape (nc,), optional
+        The rows' rounding slack (`setsmooth.sets.rounding`): the bound then holds on the relaxed set
+        {ξ : |Aξ − b| ≤ slack, |ξ| ≤ h}, whose rows differ from b by at most the slack.
+    slack_free : ndarray, shape (nc,), optional
+        The rows' slack per unit of ‖ξ_F‖∞ (rounded free columns): ‖ξ_F‖₂ σ_min ≤ ‖r‖ + ‖s_F‖₂‖ξ_F‖₂
+        on the relaxed set, so the bound divides by σ_min − ‖s_F,R‖₂ (None when that is not positive).
 
     Returns
     -------
@@ -90,8 +98,15 @@ def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray,
     rows = np.flatnonzero(np.bincount(AF.indices, minlength=A.shape[0]))
     bounded = np.where(np.isfinite(h), h, 0.0)  # the free columns contribute exact zeros
     residual = np.abs(b[rows]) + (abs(A) @ bounded)[rows]
-    rhs = np.linalg.norm(residual) * (1.0 + gamma(A.shape[1] + 4))
-    bound = rhs / np.sqrt(lam_min) * (1.0 + gamma(8))
+    if slack is not None:
+        residual = residual + slack[rows]
+    rhs = np.linalg.norm(residual) * (1.0 + gamma(A.shape[1] + 5))
+    sigma = np.sqrt(lam_min) * (1.0 - gamma(4))
+    if slack_free is not None:
+        sigma = sigma - np.linalg.norm(slack_free[rows]) * (1.0 + gamma(rows.size + 4))
+        if not sigma > 0:
+            return None
+    bound = rhs / sigma * (1.0 + gamma(8))
     return float(bound) if np.isfinite(bound) else None
 
 
@@ -173,7 +188,9 @@ class Operators:
 
 def certified_bound(d: np.ndarray, G, c: np.ndarray, A: sp.csc_matrix, b: np.ndarray,
                     h: np.ndarray, lam: np.ndarray, free_bound: float | None,
-                    ops: Operators | None = None) -> np.ndarray:
+                    ops: Operators | None = None, *, pad: np.ndarray | None = None,
+                    slack: np.ndarray | None = None, pad_free: np.ndarray | None = None,
+                    slack_free: np.ndarray | None = None, with_charge: bool = False):
     """Upper bounds on h_Z(d_i) for Z(G, c, A, b, h), rigorous in floating point (module docstring).
 
     Parameters
@@ -188,10 +205,17 @@ def certified_bound(d: np.ndarray, G, c: np.ndarray, A: sp.csc_matrix, b: np.nda
         β ≥ ‖ξ_F‖∞ over the factor set (`free_factor_bound`); None if unknown.
     ops : Operators, optional
         The prepared transposes of G and A (built here when not given).
+    pad, slack, pad_free, slack_free : ndarray, optional
+        The set's rounding charges (`setsmooth.sets.rounding`): the bound is then one on the exact
+        set they enclose, |d|ᵀpad + |λ|ᵀslack + β(|d|ᵀpad_free + |λ|ᵀslack_free) more (β the free
+        factors' bound; without one, free charges make the value uncertifiable).
+    with_charge : bool
+        Also return the bound of the stored set alone (without the charges).
 
     Returns
     -------
     ndarray, shape (k,)
+        (and the stored set's bound, shape (k,), with ``with_charge``)
 
     Raises
     ------
@@ -229,6 +253,30 @@ def certified_bound(d: np.ndarray, G, c: np.ndarray, A: sp.csc_matrix, b: np.nda
             charge = np.zeros_like(charge)
         else:
             terms = terms + charge * free_bound
+    # The rounding charges of the set algebra (`setsmooth.sets.rounding`): |d|ᵀpad + |λ|ᵀslack,
+    # and β(|d|ᵀpad_free + |λ|ᵀslack_free) for rounded free columns; sums of nonnegative terms
+    # whose own rounding the (1 + γ) below covers.
+    from ..sets.rounding import abs_matvec
+
+    rounding_charge = np.zeros(d.shape[0])
+    if pad is not None:
+        rounding_charge = rounding_charge + abs_matvec(d, pad)
+    if slack is not None:
+        rounding_charge = rounding_charge + abs_matvec(lam, slack)
+    if pad_free is not None or slack_free is not None:
+        free_charge = np.zeros(d.shape[0])
+        if pad_free is not None:
+            free_charge = free_charge + abs_matvec(d, pad_free)
+        if slack_free is not None:
+            free_charge = free_charge + abs_matvec(lam, slack_free)
+        if np.any(free_charge > 0):
+            if free_bound is None:
+                raise SolverError("UncertifiableReducedCost",
+                                  "certifying a support value: rounded columns of free factors carry "
+                                  f"a charge up to {free_charge.max():.3g} per unit of the free "
+                                  "factors and no finite bound on them is known", kind="support")
+            rounding_charge = rounding_charge + free_charge * free_bound * (1.0 + gamma(2))
+    added = rounding_charge * (1.0 + gamma(n + nc + 4))
     offset = d @ c
     blam = lam @ b
     total = offset + blam + terms
@@ -242,7 +290,14 @@ def certified_bound(d: np.ndarray, G, c: np.ndarray, A: sp.csc_matrix, b: np.nda
     err = (gamma(n) * mag_c + gamma(nc) * mag_b + 2.0 * gamma(ng + 4) * np.abs(terms)
            + gamma(3) * (np.abs(offset) + np.abs(blam) + np.abs(terms) + np.abs(total)))
     nterms = n + nc + ng + 8
-    return np.nextafter(total + err * (1.0 + gamma(nterms)), np.inf)
+    bound = np.nextafter(total + err * (1.0 + gamma(nterms)), np.inf)
+    # The charges are added last, so that the bound of the stored set stays available as it was
+    # (a bracket on the solver's answer), however large they are: one addition, rounded up.
+    with np.errstate(invalid="ignore"):
+        charged = bound + added
+        charged = np.where(added > 0, np.nextafter(charged + 2.0 * _U * np.abs(charged), np.inf),
+                           bound)
+    return (charged, bound) if with_charge else charged
 
 
 #: Free factors whose reduced costs are checked for exact cancellation, at most.

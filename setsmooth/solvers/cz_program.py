@@ -67,10 +67,13 @@ class CZProgram:
         The shared factor set of the CZ. Arguments are trusted (validated by the caller).
     """
 
-    def __init__(self, G, c: np.ndarray, factors: FactorConstraints):
+    def __init__(self, G, c: np.ndarray, factors: FactorConstraints,
+                 pad: np.ndarray | None = None, pad_free: np.ndarray | None = None):
         self.G = sp.csc_matrix(G) if sp.issparse(G) else G
         self.c = c
         self.factors = factors
+        # The set's rounding pads (`setsmooth.sets.rounding`), charged by certificates.
+        self.pad, self.pad_free = pad, pad_free
         self.A, self.b, self.h = factors.A, factors.b, factors.h
         self.ng, self.nc, self.finite = factors.ng, factors.nc, factors.finite
         self._ops: Operators | None = None  # prepared on the first certificate
@@ -126,14 +129,16 @@ class CZProgram:
         """
         values, points, xis, lams = solved
         try:
-            bounds = self._certify(D, values, lams)
+            bounds, stored = self._certify(D, values, lams)
         except SolverError as err:
             if must_certify or err.status != "UncertifiableReducedCost":
                 raise
             return solved, None
         finite = np.isfinite(values) & np.isfinite(bounds)
+        # The rounding charges (`setsmooth.sets.rounding`) are part of every bound; the bracket
+        # checks the solver on the stored program (``stored``: its bounds), so it leaves them out.
         with np.errstate(invalid="ignore"):
-            loose = finite & ~(np.abs(bounds - values) <= self._gap_tolerance(D, values, bounds))
+            loose = finite & ~(np.abs(stored - values) <= self._gap_tolerance(D, values, stored))
         rows = np.flatnonzero(loose)
         if rows.size:
             values, points, xis, lams, bounds = (a.copy() for a in (values, points, xis, lams,
@@ -149,13 +154,15 @@ class CZProgram:
             b2 = None
             if ok.any():
                 try:
-                    b2 = self._certify(D[rows][ok], v2[ok], l2[ok])
+                    b2, s2 = self._certify(D[rows][ok], v2[ok], l2[ok])
                 except SolverError as err:
                     if err.status != "UncertifiableReducedCost":
                         raise
             if b2 is not None:
                 r = rows[ok]
-                better = (b2 - v2[ok]) < np.abs(bounds[r] - values[r])  # an inverted bracket too
+                # The brackets on the stored program (an inverted one too) decide which answer is
+                # kept; the bound is the smaller of the two either way.
+                better = (s2 - v2[ok]) < np.abs(stored[r] - values[r])
                 take = r[better]
                 values[take], points[take] = v2[ok][better], p2[ok][better]
                 xis[take], lams[take] = x2[ok][better], l2[ok][better]
@@ -222,11 +229,13 @@ class CZProgram:
         values[solved] = D[solved] @ self.c + np.einsum("ij,ij->i", GtD[solved], xi)
         return values, points, xis, lams
 
-    def _certify(self, D: np.ndarray, values: np.ndarray, lams: np.ndarray) -> np.ndarray:
-        """Replace the finite values by their floating-point weak-duality bounds."""
+    def _certify(self, D: np.ndarray, values: np.ndarray, lams: np.ndarray
+                 ) -> tuple[np.ndarray, np.ndarray]:
+        """Replace the finite values by their floating-point weak-duality bounds; also returns the
+        bounds of the stored set alone, without the rounding charges (`setsmooth.sets.rounding`)."""
         rows = np.flatnonzero(np.isfinite(values))
         if rows.size == 0:
-            return values
+            return values, values
         lam = lams[rows]
         free = self.factors.free
         bound = 0.0
@@ -254,10 +263,13 @@ class CZProgram:
     def _bound(self, D, values, rows, lam, bound):
         if self._ops is None:
             self._ops = Operators(self.G, self.A, self.factors.certificate_operators()[2])
-        out = values.copy()
-        out[rows] = certified_bound(D[rows], self.G, self.c, self.A, self.b, self.h, lam, bound,
-                                    self._ops)
-        return out
+        out, stored = values.copy(), values.copy()
+        out[rows], stored[rows] = certified_bound(D[rows], self.G, self.c, self.A, self.b, self.h,
+                                                   lam, bound, self._ops, pad=self.pad,
+                                                   slack=self.factors.slack, pad_free=self.pad_free,
+                                                   slack_free=self.factors.slack_free,
+                                                   with_charge=True)
+        return out, stored
 
     def contains(self, p: np.ndarray, margin: float) -> bool:
         """Whether some ξ with Aξ = b, |ξ| ≤ h has ‖Gξ + c − p‖∞ ≤ margin.

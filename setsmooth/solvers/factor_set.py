@@ -99,10 +99,18 @@ class FactorConstraints:
     thread by `instances.cached_instance`).
     """
 
-    def __init__(self, A, b: np.ndarray, h: np.ndarray):
+    def __init__(self, A, b: np.ndarray, h: np.ndarray, slack: np.ndarray | None = None,
+                 slack_free: np.ndarray | None = None):
         self.A = _csc(A)  # canonical (sorted, unique row indices): the presolve scales its arrays
         self.b = np.asarray(b, dtype=float)
         self.h = np.asarray(h, dtype=float)
+        #: Rounding slack of the rows (`setsmooth.sets.rounding`): the certificates hold for the
+        #: relaxed set {ξ : |Aξ − b| ≤ slack, |ξ| ≤ h}; None when the rows are exact.
+        self.slack = None if slack is None or not np.any(slack) else np.asarray(slack, dtype=float)
+        #: The rows' slack per unit of ‖ξ_F‖∞ (rounded free columns): |Aξ − b| ≤ slack +
+        #: slack_free·‖ξ_F‖∞ on the relaxed set. None when no free column was rounded.
+        self.slack_free = (None if slack_free is None or not np.any(slack_free)
+                           else np.asarray(slack_free, dtype=float))
         self.ng = self.A.shape[1]
         self.nc = self.A.shape[0]
         self.finite = np.flatnonzero(np.isfinite(self.h))
@@ -143,7 +151,8 @@ class FactorConstraints:
         return self._pre_full
 
     @classmethod
-    def joined(cls, A, b: np.ndarray, h: np.ndarray, parts: list["FactorConstraints | None"]
+    def joined(cls, A, b: np.ndarray, h: np.ndarray, parts: list["FactorConstraints | None"],
+               slack: np.ndarray | None = None, slack_free: np.ndarray | None = None
                ) -> "FactorConstraints | None":
         """The factor set of a CZ whose factors are those of ``parts`` side by side, with more rows.
 
@@ -154,13 +163,15 @@ class FactorConstraints:
         keeps certified supports available where the result has more free factors than the dense
         bound accepts (the recursion smoother on the filter's trajectory views). A part's bound is
         used only when already known or cheap (no free factors, a structured factor set, or a small
-        one); otherwise the result's own bound is computed when first needed, as before.
+        one); otherwise the result's own bound is computed when first needed, as before. With
+        ``slack`` (the rows' rounding charge, the parts' own slacks among them) each part's bound,
+        computed for its relaxed set, holds on the restriction of the relaxed result.
 
         Returns None (the CZ builds its factor set lazily) when no part has free factors.
         """
         if not any(p is not None and p.free.size for p in parts):
             return None
-        joined = cls(A, b, h)
+        joined = cls(A, b, h, slack, slack_free)
         betas = [p._cheap_free_bound() for p in parts]
         if all(beta is not None for beta in betas):
             joined._free_bound = (max(betas, default=0.0),)
@@ -186,7 +197,8 @@ class FactorConstraints:
         if self._free_bound is None:
             from .certify import free_factor_bound
 
-            self._free_bound = (free_factor_bound(self.A, self.b, self.h),)
+            self._free_bound = (free_factor_bound(self.A, self.b, self.h, slack=self.slack,
+                                                  slack_free=self.slack_free),)
         return self._free_bound[0]
 
     def certificate_operators(self) -> tuple[sp.csc_matrix, sp.csr_matrix, tuple]:

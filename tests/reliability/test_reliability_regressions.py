@@ -184,3 +184,31 @@ def test_a_recession_program_clarabel_cannot_settle_goes_to_the_simplex_method()
     case = in_regime(base_case(2026, 176), "scale1e-06")
     result = compare_case(case, estimators=("filter",))
     assert not result.failed, describe(result)
+
+
+def test_trajectory_rows_carry_the_rounding_of_the_nominal_trajectory():
+    """Each dynamics row x_{k+1} − A x_k − B G_w ξ = 0 about the nominal x̄ holds exactly only up to
+    A x̄_k + B c_w + u_k − x̄_{k+1}, rounded away when x̄ is 1e6: the row's slack covers it (rationals)."""
+    from fractions import Fraction
+
+    from setsmooth.trajectories import trajectory_set
+
+    case = in_regime(base_case(2026, 3, T_range=(8, 8), n_range=(3, 3)), "offset1e+06")
+    system, n = case.system, case.system.n
+    Z = trajectory_set(system, case.X0, case.ys)
+    slack = Z.factors.slack
+    assert slack is not None
+    x = Z.c.reshape(-1, n)
+    cw = system.W.to_constrained_zonotope().c
+    first_dyn = Z.nc - (case.T + 1) * system.m - case.T * n
+    worst = 0.0
+    for k in range(case.T):
+        A, B, u = system.A(k), system.B(k), system.input_term(k)
+        for i in range(n):
+            exact = (sum(Fraction(A[i, j]) * Fraction(x[k, j]) for j in range(n))
+                     + sum(Fraction(B[i, j]) * Fraction(cw[j]) for j in range(B.shape[1]))
+                     + Fraction(u[i]) - Fraction(x[k + 1, i]))
+            row = first_dyn + k * n + i
+            assert abs(exact) <= Fraction(slack[row])
+            worst = max(worst, float(abs(exact)))
+    assert worst > 0  # the nominal does round at 1e6

@@ -39,10 +39,12 @@ class ReductionMethod:
             return S
         # ConstrainedZonotope first: the order of the checks decides nothing today (no subclassing
         # between these types) but states which representation wins if that ever changes.
+        # A set that carries its algebra's rounding charges (`setsmooth.sets.rounding`) is reduced
+        # with them written as generators, so that the methods see data meaning what they say.
         if isinstance(S, ConstrainedZonotope):
-            return self._on_constrained_zonotope(S)
+            return self._on_constrained_zonotope(S.materialized())
         if isinstance(S, Zonotope):
-            return self._on_zonotope(S)
+            return self._on_zonotope(S.materialized())
         if isinstance(S, Box):
             return self._on_box(S)
         raise self._unsupported(S)

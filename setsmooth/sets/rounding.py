@@ -1,0 +1,238 @@
+"""Rigorous bounds on the rounding of the closed-form set algebra, carried by the sets it builds.
+
+A constrained zonotope computed by the algebra (a linear map, a Minkowski sum, a generalized
+intersection, ...) is stored with floating-point data, and the set those data describe is not the exact
+result: M·G, M·c, c₁ + c₂ and y − C·c are rounded. At a state 1e6 from the origin a rounded centre is off
+by 1e-10, and a generalized intersection can amplify such an error by the conditioning of its rows: a
+certified hull of the smoothing recursion's set sat 5e-7 inside the exact hull (reliability case 000 at
+offset 1e6), although it was a valid bound for the set as stored.
+
+So the algebra charges its own rounding, and a set states what it contains in two vectors:
+
+* ``pad`` (one entry per coordinate): every point of the exact set is within ``pad`` (componentwise)
+  of a point c + Gξ with ξ in the relaxed factor set below (zonotopes, constrained zonotopes);
+* ``slack`` (one entry per constraint row, on the factor set): the relaxed factor set is
+  {ξ : |Aξ − b| ≤ slack, |ξ_j| ≤ h_j}.
+
+For these, weak duality still gives, for any multiplier λ,
+
+    h_exact(d) ≤ dᵀc + bᵀλ + Σ_j h_j |(Gᵀd − Aᵀλ)_j| + |λ|ᵀ slack + |d|ᵀ pad,
+
+which `setsmooth.solvers.certify.certified_bound` evaluates. A set built from user data has neither
+(its data are exact by definition); every closed-form operation adds what its own floating-point
+operations can have lost, bounded as in Higham, *Accuracy and Stability of Numerical Algorithms*
+(2nd ed., §2.2, §3.1): a sum of k products is off by at most γ_k times the sum of their magnitudes,
+γ_k = k·u / (1 − k·u), u = 2⁻⁵³. Where a result is exact the charge is exactly zero (an entry of a
+product with one nonzero term whose error-free transformation (Dekker's TwoProduct) leaves nothing, a
+sum whose TwoSum leaves nothing), so selections, negations and additions of exact data cost nothing. Subnormal products are charged
+their absolute error bound too (η = 2⁻¹⁰⁷⁴ per term).
+
+Free factors (h_j = ∞) are unbounded, so the rounding of their columns is charged per unit of
+‖ξ_F‖∞ (``pad_free``, ``slack_free``) and multiplied, in a certificate, by the rigorous bound β on the
+free factors that certificates of such sets need anyway (`setsmooth.solvers.certify`); β itself is
+computed for the relaxed set. Selections of states (the trajectory views) are never rounded.
+
+Charges are sound, not tight, and a pad carried through many linear maps grows like ‖|A|‖^k (the
+wrapping effect of interval arithmetic) where the rounding itself does not: the recursion's estimators
+therefore certify their sets against the model data instead (`setsmooth.data_certificates`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..solvers.certify import gamma  # γ_k = k·u / (1 − k·u)
+
+__all__ = ["U", "gamma", "two_sum", "sum_with_error", "sum_down", "sum_up", "abs_matvec",
+           "product_error", "rounded_up", "add", "linear_image", "box_center_radius"]
+
+U = np.finfo(float).eps / 2  # unit roundoff 2⁻⁵³
+_ETA = float(np.nextafter(0.0, 1.0))  # 2⁻¹⁰⁷⁴: the absolute error bound of a subnormal product
+
+
+def two_sum(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(s, e) with s = fl(a + b) and a + b = s + e exactly (Knuth's TwoSum; no overflow assumed)."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    with np.errstate(invalid="ignore", over="ignore"):
+        s = a + b
+        bb = s - a
+        e = (a - (s - bb)) + (b - bb)
+    # inf − inf in the transformation: an infinite sum has no finite error to charge.
+    e = np.where(np.isfinite(s), e, 0.0)
+    return s, e
+
+
+def sum_with_error(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(fl(a + b), |error|): the error is exact (TwoSum), zero where the sum is exact."""
+    s, e = two_sum(a, b)
+    return s, np.abs(e)
+
+
+def sum_down(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The largest float ≤ a + b (directed rounding by the TwoSum error: exact sums stay exact)."""
+    s, e = two_sum(a, b)
+    return np.where(e < 0, np.nextafter(s, -np.inf), s)
+
+
+def sum_up(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The smallest float ≥ a + b."""
+    s, e = two_sum(a, b)
+    return np.where(e > 0, np.nextafter(s, np.inf), s)
+
+
+def rounded_up(x: np.ndarray, terms: int = 1) -> np.ndarray:
+    """An upper bound on a nonnegative quantity computed in floating point as a sum of ``terms``
+    nonnegative terms: x·(1 + γ_terms), rounded up by one more ulp; exact zeros stay zero."""
+    x = np.asarray(x, dtype=float)
+    with np.errstate(over="ignore"):
+        out = np.nextafter(x * (1.0 + gamma(terms + 1)), np.inf)
+    return np.where(x == 0.0, 0.0, out)
+
+
+def add(*charges) -> np.ndarray | None:
+    """The sum of nonnegative charge vectors (None meaning zero), rounded up; None if all are."""
+    parts = [np.asarray(c, dtype=float) for c in charges if c is not None]
+    if not parts:
+        return None
+    total = parts[0].copy()
+    for p in parts[1:]:
+        total = total + p
+    return rounded_up(total, len(parts)) if len(parts) > 1 else total
+
+
+def abs_matvec(M, v: np.ndarray) -> np.ndarray:
+    """|M|·v for a nonnegative v that may hold +∞, with 0·∞ = 0 (a row that does not see an infinite
+    entry stays finite). M may be a dense array (1-D or 2-D) or a sparse matrix; v of M's columns."""
+    v = np.asarray(v, dtype=float)
+    absM = _abs(M)
+    infinite = np.isinf(v)
+    if not infinite.any():
+        return np.asarray(absM @ v)
+    out = np.asarray(absM @ np.where(infinite, 0.0, v))
+    sees = np.asarray(absM @ infinite.astype(float))
+    return np.where(sees > 0, np.inf, out)
+
+
+def _abs(M):
+    return abs(M) if sp.issparse(M) else np.abs(M)
+
+
+def _pattern(M):
+    """The 0/1 pattern of M's nonzeros."""
+    if sp.issparse(M):
+        P = sp.csr_matrix(M, copy=True)
+        P.eliminate_zeros()
+        P.data = np.ones(P.data.size)
+        return P
+    return (M != 0).astype(float)
+
+
+_SPLITTER = 2.0 ** 27 + 1.0  # Veltkamp's splitting constant for binary64
+
+
+def _split(M):
+    """(hi, lo) with M = hi + lo exactly, hi and lo of at most 26 significant bits (Veltkamp)."""
+    if sp.issparse(M):
+        hi, lo = sp.csr_matrix(M, copy=True), sp.csr_matrix(M, copy=True)
+        hi.data, lo.data = _split(hi.data)
+        return hi, lo
+    with np.errstate(over="ignore", invalid="ignore"):
+        t = _SPLITTER * M
+        hi = t - (t - M)
+    return hi, M - hi
+
+
+def _single_products_exact(M, X, P) -> np.ndarray | sp.spmatrix:
+    """Where an entry of P = fl(M X) is a single product, whether it is exact (Dekker's TwoProduct:
+    the four partial products of the split factors are exact, so the error is computed exactly)."""
+    Mh, Ml = _split(M)
+    Xh, Xl = _split(X)
+    with np.errstate(over="ignore", invalid="ignore"):
+        err = ((Mh @ Xh - P) + Mh @ Xl + Ml @ Xh) + Ml @ Xl
+    if sp.issparse(err):
+        err = sp.csr_matrix(err)
+        err.data = np.where(np.isfinite(err.data), err.data, 1.0)  # overflow: not exact
+        err.eliminate_zeros()
+        return err
+    return np.where(np.isfinite(err), err, 1.0)
+
+
+def product_error(M, X) -> np.ndarray | sp.spmatrix:
+    """An elementwise bound on |fl(M·X) − M·X| for a dense or sparse product (no overflow assumed).
+
+    An entry whose dot product has k ≥ 2 nonzero terms, or one term whose product rounds (decided
+    exactly by TwoProduct), is charged 2·γ_k·(|M||X|) + k·η (the factor 2 covers the rounding of
+    |M||X| itself and the subnormal range); the other entries are exact and charged zero.
+    """
+    sparse = sp.issparse(M) or sp.issparse(X)
+    if sparse:
+        M, X = sp.csr_matrix(M), sp.csc_matrix(X)
+    P = M @ X
+    magnitude = _abs(M) @ _abs(X)
+    count = _pattern(M) @ _pattern(X)
+    single_error = _single_products_exact(M, X, P)
+    if sparse:
+        magnitude, count = sp.csr_matrix(magnitude), sp.csr_matrix(count)
+        single_error = sp.csr_matrix(single_error)
+        k = float(count.max()) if count.nnz else 0.0
+        # rounded: two or more terms, or one product that is not exact
+        rounded = (count > 1).maximum((count == 1).multiply(single_error != 0)).astype(float)
+        E = magnitude.multiply(rounded) * (2.0 * float(gamma(k + 1))) + count.multiply(rounded) * _ETA
+        return sp.csr_matrix(E)
+    magnitude, count = np.asarray(magnitude), np.asarray(count)
+    single_error = np.asarray(single_error)
+    k = float(count.max(initial=0.0))
+    rounded = (count > 1) | ((count == 1) & (single_error != 0))
+    return np.where(rounded, 2.0 * gamma(k + 1) * magnitude + count * _ETA, 0.0)
+
+
+def _weighted_rows(E, h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(Σ_{j bounded} E_ij h_j, Σ_{j free} E_ij): the charge of the bounded factors, and the
+    coefficient of ‖ξ_F‖∞ for the free ones (h_j = ∞)."""
+    finite = np.isfinite(h)
+    bounded = np.asarray(E @ np.where(finite, h, 0.0)).reshape(-1)
+    free = np.asarray(E @ (~finite).astype(float)).reshape(-1)
+    return bounded, free
+
+
+def linear_image(M, G, c: np.ndarray, h: np.ndarray, pad: np.ndarray | None,
+                 pad_free: np.ndarray | None = None):
+    """The charges (pad, pad_free) of {fl(M G) ξ + fl(M c)} as an enclosure of M·Z, where Z's own
+    points are within pad + pad_free·‖ξ_F‖∞ of c + Gξ (|ξ_j| ≤ h_j, free factors ξ_F).
+
+    pad' = |M|·pad + bound(fl(M c) − M c) + Σ_{j bounded} h_j bound(fl(M G)_j − M G_j),
+    pad_free' = |M|·pad_free + Σ_{j free} bound(fl(M G)_j − M G_j), each rounded up; None when zero.
+    """
+    terms, free_terms = [], []
+    if pad is not None:
+        terms.append(np.asarray(_abs(M) @ pad).reshape(-1))
+    if pad_free is not None:
+        free_terms.append(np.asarray(_abs(M) @ pad_free).reshape(-1))
+    cc = np.asarray(c, dtype=float)[:, None]
+    Ec = product_error(M, sp.csc_matrix(cc) if sp.issparse(M) else cc)
+    terms.append(np.asarray(Ec.todense() if sp.issparse(Ec) else Ec).reshape(-1))
+    if G.shape[1]:
+        bounded, free = _weighted_rows(product_error(M, G), h)
+        terms.append(bounded)
+        free_terms.append(free)
+    # One γ over every sum that formed these terms (|M|·pad, E·h) and the terms' own additions.
+    size = len(terms) + M.shape[1] + G.shape[1]
+    total = rounded_up(sum(terms), size)
+    total_free = rounded_up(sum(free_terms), size) if free_terms else None
+    return (total if np.any(total) else None,
+            total_free if total_free is not None and np.any(total_free) else None)
+
+
+def box_center_radius(lo: np.ndarray, hi: np.ndarray):
+    """(centre, radius, pad) of a bounded box as c ± r: [lo, hi] ⊆ [c − r − pad, c + r + pad].
+
+    c = fl(lo + hi)/2 and r = fl(hi − lo)/2; the halvings are exact (barring underflow, charged by η),
+    the sums' errors exactly known (TwoSum), so the pad is zero for every box whose midpoint and
+    radius are representable.
+    """
+    s, es = sum_with_error(lo, hi)
+    t, et = sum_with_error(hi, -lo)
+    c, r = s / 2, t / 2
+    pad = rounded_up((es + et) / 2 + np.where((es + et) > 0, _ETA, 0.0), 2)
+    return c, r, (pad if np.any(pad) else None)
