@@ -122,6 +122,10 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
             if k > 0:
                 prior = _predict(system, k - 1, posteriors[-1])
             posteriors.append(_update(system, k, prior, y))
+        # The recursion's CZs are certified against the data (`setsmooth.data_certificates`).
+        from ..data_certificates import certified_against_data
+
+        posteriors = certified_against_data(posteriors, system, X0, ys, "filtered")
     if detect_empty:
         first = _first_empty(posteriors)
         posteriors[first:] = [EmptySet(system.n) for _ in range(first, len(posteriors))]

@@ -58,6 +58,9 @@ class ConstrainedZonotope(ConvexSet):
     1.0
     """
 
+    #: See `_init`; a class default for subclasses that do not call it (`PosteriorView`).
+    _reference = None
+
     def __init__(self, G: Any, c: Any, A: Any = None, b: Any = None, h: Any = None):
         G = as_matrix(G, "G", allow_sparse=True)
         n, ng = G.shape
@@ -99,6 +102,16 @@ class ConstrainedZonotope(ConvexSet):
         self.pad_free = None if pad_free is None else mx.readonly(pad_free)
         self._slack = None if slack is None else mx.readonly(slack)
         self._slack_free = None if slack_free is None else mx.readonly(slack_free)
+        #: A `setsmooth.data_certificates.DataReference` (the same exact set, certified against the
+        #: model data) on the sets of the recursion's estimators; None otherwise.
+        self._reference = None
+
+    def _with_reference(self, reference) -> "ConstrainedZonotope":
+        """This CZ with its certified values taken from ``reference.get()`` (internal)."""
+        out = ConstrainedZonotope._trusted(self.G, self.c, self.A, self.b, self.h, self._factors,
+                                           self.pad, self._slack, self.pad_free, self._slack_free)
+        out._reference = reference
+        return out
 
     @property
     def slack(self) -> np.ndarray | None:
@@ -212,6 +225,8 @@ class ConstrainedZonotope(ConvexSet):
         return self
 
     def _support(self, D: np.ndarray, certified: bool):
+        if certified is not False and self._reference is not None:
+            return self._reference.get()._support(D, certified)
         if self.nc == 0:
             values, points = self._unconstrained_support(D)
             if certified is not False:
@@ -235,6 +250,11 @@ class ConstrainedZonotope(ConvexSet):
     def _interval_hulls_at_once(self) -> dict | None:
         # The plain hull's solves also certify it (`CZProgram.support_and_bounds`): computing one
         # keeps the other, half the LPs where both are asked for (the reliability comparisons).
+        if self._reference is not None:
+            # Plain values from this CZ's program; the certified ones come from the data (`_support`).
+            return {False: self._box_of_supports(self._support(np.vstack([np.eye(self.dim),
+                                                                          -np.eye(self.dim)]),
+                                                               False)[0], self.dim)}
         if self.nc == 0:
             return None  # closed form
         eye = np.eye(self.dim)

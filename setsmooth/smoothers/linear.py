@@ -95,8 +95,14 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
         raise ValueError(f"posteriors must hold one set per measurement ({len(ys)}), got {len(posteriors)}")
     if isinstance(posteriors, SetEstimates):
         posteriors.check_same_data(system, X0, ys)
-    return SetEstimates(smooth(system, posteriors), system=system, X0=X0, ys=ys, kind="smoothed",
-                        outer=getattr(posteriors, "outer", False))
+    smoothed = smooth(system, posteriors)
+    outer = getattr(posteriors, "outer", False)
+    if isinstance(posteriors, SetEstimates) and not outer:
+        # Exact sets of these data: certified against the data (`setsmooth.data_certificates`).
+        from ..data_certificates import certified_against_data
+
+        smoothed = certified_against_data(smoothed, system, X0, ys, "smoothed")
+    return SetEstimates(smoothed, system=system, X0=X0, ys=ys, kind="smoothed", outer=outer)
 
 
 def smooth(system, posteriors: list[ConvexSet]) -> list[ConvexSet]:

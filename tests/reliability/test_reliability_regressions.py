@@ -186,6 +186,25 @@ def test_a_recession_program_clarabel_cannot_settle_goes_to_the_simplex_method()
     assert not result.failed, describe(result)
 
 
+def test_recursion_smoother_certified_hulls_enclose_the_exact_ones_far_from_the_origin():
+    """Reliability case 000 (n = 6, T = 29) at offset 1e6: the recursion's CZs are formed by products
+    of A rounded in floating point, and their certified hulls (valid for the CZs as stored) sat up to
+    1.0e-7 of w + σ inside the exact hull at 137 endpoints. The estimators' sets are now certified
+    against the data (`setsmooth.data_certificates`, trajectory rows with their rounding charged)."""
+    case = in_regime(base_case(2026, 0), "offset1e+06")
+    oracle = TrajectoryOracle(case.system, case.X0, case.ys)
+    lo_x, hi_x = oracle.smoothed_hulls()
+    sigma = data_scale(case.system, case.X0)
+    smoothed = ss.optimal_smoother(case.system, case.X0, case.ys, method="recursion")
+    hulls = smoothed.interval_hulls(certified=True)
+    lo = np.array([h.lo for h in hulls])
+    hi = np.array([h.hi for h in hulls])
+    unit = hi_x - lo_x + sigma
+    fp = np.finfo(float).eps * (np.abs(lo_x) + np.abs(hi_x))
+    assert np.all(lo <= lo_x + ENCLOSE_TOL * unit + fp) and np.all(hi >= hi_x - ENCLOSE_TOL * unit - fp)
+    assert np.all(np.maximum(lo_x - lo, hi - hi_x) <= 1e-6 * unit)  # and tight
+
+
 def test_trajectory_rows_carry_the_rounding_of_the_nominal_trajectory():
     """Each dynamics row x_{k+1} − A x_k − B G_w ξ = 0 about the nominal x̄ holds exactly only up to
     A x̄_k + B c_w + u_k − x̄_{k+1}, rounded away when x̄ is 1e6: the row's slack covers it (rationals)."""
