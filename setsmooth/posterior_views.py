@@ -38,7 +38,8 @@ class _SharedTrajectories:
         self.A = sp.csc_matrix(full.A)  # canonical CSC: a prefix is cut by index arithmetic
         self.A.sort_indices()
         self.b, self.h, self.nominal = full.b, full.h, full.c.reshape(T + 1, system.n)
-        self.slack = full.slack  # the rows' rounding slack (`setsmooth.sets.rounding`)
+        # the rows' rounding slack (`setsmooth.sets.rounding`), and per unit of the free factors
+        self.slack, self.slack_free = full.slack, full.slack_free
         n, m = system.n, system.m
         # The layout of `trajectories._assemble`: columns [states | ξ_Z | ξ_w,0..T−1 | ξ_v,0..T],
         # rows [A_Z | A_w × T | A_v × (T+1) | x_0 − G_Z ξ_Z | dynamics × T | measurements × (T+1)].
@@ -60,8 +61,8 @@ class _SharedTrajectories:
         return np.concatenate([np.arange(start, start + size + k * growth)
                                for start, size, growth in blocks])
 
-    def _cut(self, k: int) -> tuple[sp.csc_matrix, np.ndarray, np.ndarray, np.ndarray | None]:
-        """(A, b, h, slack) of the trajectories 0..k: the rows and columns of times 0..k, in order.
+    def _cut(self, k: int) -> tuple:
+        """(A, b, h, slack, slack_free) of the trajectories 0..k: the rows and columns of times 0..k, in order.
 
         Cut from the CSC arrays directly (the kept columns' entries, those in kept rows renumbered):
         scipy's fancy indexing costs more than the posterior's own LPs on short horizons."""
@@ -82,32 +83,33 @@ class _SharedTrajectories:
         cut = sp.csc_matrix((A.data[entries[kept]], renumbered[kept].astype(itype),
                              indptr.astype(itype)), shape=(rows.size, cols.size))
         cut.has_sorted_indices = True  # rows keep their order, so each column stays sorted
-        return cut, self.b[rows], self.h[cols], None if self.slack is None else self.slack[rows]
+        return (cut, self.b[rows], self.h[cols], None if self.slack is None else self.slack[rows],
+                None if self.slack_free is None else self.slack_free[rows])
 
     def trajectories(self, k: int) -> ConstrainedZonotope:
         """The trajectory CZ over 0..k: exactly `trajectories._assemble` over 0..k, cut out."""
         from .trajectories import TrajectoryFactors
 
-        A, b, h, slack = self._cut(k)
+        A, b, h, slack, slack_free = self._cut(k)
         n_states = self.n * (k + 1)
         G = sp.csc_matrix((np.ones(n_states), (np.arange(n_states), np.arange(n_states))),
                           shape=(n_states, A.shape[1]))
         return ConstrainedZonotope._trusted(G, self.nominal[: k + 1].reshape(-1), A, b, h,
-                                            TrajectoryFactors(A, b, h, slack))
+                                            TrajectoryFactors(A, b, h, slack, slack_free))
 
     def posterior(self, k: int) -> ConstrainedZonotope:
         """⟦x_k | y_{0:k}⟧: the projection on x_k of the trajectories 0..k (G selects the states
         of time k, the last n factors of the states' block)."""
         from .trajectories import TrajectoryFactors
 
-        A, b, h, slack = self._cut(k)
+        A, b, h, slack, slack_free = self._cut(k)
         n = self.n
         itype = np.int32 if A.shape[1] < np.iinfo(np.int32).max else np.int64
         indptr = np.zeros(A.shape[1] + 1, dtype=itype)
         indptr[k * n + 1:] = np.minimum(np.arange(1, A.shape[1] - k * n + 1), n)
         G = sp.csc_matrix((np.ones(n), np.arange(n, dtype=itype), indptr), shape=(n, A.shape[1]))
         return ConstrainedZonotope._trusted(G, self.nominal[k].copy(), A, b, h,
-                                            TrajectoryFactors(A, b, h, slack))
+                                            TrajectoryFactors(A, b, h, slack, slack_free))
 
 
 class PosteriorView(ConstrainedZonotope):

@@ -163,10 +163,11 @@ class JointRange:
         cz = self.set._flat_cz
         if cz is None:
             return JointRange(self.set.intersect_preimage(E, Box(e, e)), self.n, self.p, self.q, self.T)
-        EG = sp.csr_matrix(E) @ sp.csc_matrix(cz.G)
-        A = sp.vstack([sp.csr_matrix(cz.A), EG]).tocsc()
-        b = np.concatenate([cz.b, e - np.asarray(E @ cz.c).reshape(-1)])
-        return JointRange(ConstrainedZonotope._trusted(cz.G, cz.c, A, b, cz.h), self.n, self.p, self.q, self.T)
+        # The generalized intersection with the point {e} under E: rows E G ξ = e − E c, their
+        # rounding charged by the algebra (`setsmooth.sets.rounding`).
+        point = ConstrainedZonotope._trusted(np.zeros((E.shape[0], 0)), e, np.zeros((0, 0)),
+                                             np.zeros(0), np.zeros(0))
+        return JointRange(cz._generalized_intersection(E, point), self.n, self.p, self.q, self.T)
 
     def restrict_halfspaces(self, H: Any, k: Any) -> "JointRange":
         """The joint range intersected with the polyhedral relation {ξ : Hξ ≤ k}.
@@ -196,13 +197,11 @@ class JointRange:
         r = np.maximum(k - lowest, 0.0)
         r = r + tol_policy.scaled(tol_policy.MEMBERSHIP_TOL, np.abs(H).sum(axis=1).max() *
                                   max(np.abs(hull.lo).max(), np.abs(hull.hi).max()))
-        rows = H.shape[0]
-        G = sp.hstack([sp.csc_matrix(cz.G), sp.csc_matrix((self.dim, rows))]).tocsc()
-        A = sp.vstack([sp.hstack([sp.csc_matrix(cz.A), sp.csc_matrix((cz.nc, rows))]),
-                       sp.hstack([sp.csc_matrix(H) @ sp.csc_matrix(cz.G), sp.diags(r / 2)])]).tocsc()
-        b = np.concatenate([cz.b, k - H @ cz.c - r / 2])
-        h = np.concatenate([cz.h, np.ones(rows)])
-        return JointRange(ConstrainedZonotope._trusted(G, cz.c, A, b, h), self.n, self.p, self.q, self.T)
+        # Hξ ∈ [k − r, k] as the generalized intersection with that box (its CZ form, one factor per
+        # row): the algebra charges the rounding of the rows (`setsmooth.sets.rounding`); the box's
+        # lower end rounded does not matter (r has a margin: it only must not cut the range).
+        band = Box(k - r, k).to_constrained_zonotope()
+        return JointRange(cz._generalized_intersection(H, band), self.n, self.p, self.q, self.T)
 
 
 @dataclass(frozen=True)

@@ -236,11 +236,11 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
     # The rows' rounding slack (`setsmooth.sets.rounding`): the operands' own (their rows, and their
     # pads where they enter a row), the nominal trajectory's rounding, and the rounding of the
     # products B G_w, D G_v and of the measurement rows' right-hand sides.
-    slack = [_zeros_or(Z0.slack, Z0.nc), np.tile(_zeros_or(Zw.slack, Zw.nc), steps),
-             np.tile(_zeros_or(Zv.slack, Zv.nc), steps + 1), _zeros_or(Z0.pad, n)]
+    slack = [rounding.zeros_or(Z0.slack, Z0.nc), np.tile(rounding.zeros_or(Zw.slack, Zw.nc), steps),
+             np.tile(rounding.zeros_or(Zv.slack, Zv.nc), steps + 1), rounding.zeros_or(Z0.pad, n)]
     # per unit of ‖ξ_F‖∞, where an operand's free columns were rounded (none in the estimators)
-    slack_free = [_zeros_or(Z0.slack_free, Z0.nc), np.tile(_zeros_or(Zw.slack_free, Zw.nc), steps),
-                  np.tile(_zeros_or(Zv.slack_free, Zv.nc), steps + 1), _zeros_or(Z0.pad_free, n)]
+    slack_free = [rounding.zeros_or(Z0.slack_free, Z0.nc), np.tile(rounding.zeros_or(Zw.slack_free, Zw.nc), steps),
+                  np.tile(rounding.zeros_or(Zv.slack_free, Zv.nc), steps + 1), rounding.zeros_or(Z0.pad_free, n)]
     Bw_charge = Dv_charge = None
     # x_start ∈ prior
     A.put(row, 0, eye)
@@ -290,10 +290,6 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
     # The factor set is created now, so that every projection shares one.
     return ConstrainedZonotope._trusted(G, nominal.reshape(-1), A_matrix, b, h,
                                         TrajectoryFactors(A_matrix, b, h, slack, slack_free))
-
-
-def _zeros_or(v: np.ndarray | None, size: int) -> np.ndarray:
-    return np.zeros(size) if v is None else np.asarray(v, dtype=float)
 
 
 def _product_charge(M: np.ndarray, G: np.ndarray, Z: ConstrainedZonotope

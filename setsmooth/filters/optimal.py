@@ -36,6 +36,7 @@ import scipy.sparse as sp
 
 from .._validation import as_measurements
 from ..related_noise import JointRange
+from ..sets import rounding
 from ..sets.algebra import cartesian_product
 from ..sets.base import ConvexSet
 from ..sets.box import Box
@@ -285,19 +286,44 @@ def _assemble(system, joint_range: JointRange, cz: ConstrainedZonotope, ys: np.n
     def factors(dims) -> sp.csr_matrix:
         return G_J[list(dims)]
 
+    # The rows' rounding slack (`setsmooth.sets.rounding`, as in `trajectories._assemble`): J's own
+    # charges where its coordinates enter a row, the nominal trajectory's rounding, and that of the
+    # products B·G_J, D·G_J and of the measurement rows' right-hand sides.
+    def charge(M, dims):
+        dims = list(dims)
+        pad = None if cz.pad is None else cz.pad[dims]
+        pad_free = None if cz.pad_free is None else cz.pad_free[dims]
+        bounded, free = rounding.linear_image(M, G_J[dims], np.zeros(len(dims)), cz.h, pad, pad_free)
+        zeros = np.zeros(M.shape[0])
+        return (zeros if bounded is None else bounded), (zeros if free is None else free)
+
+    x0 = list(joint_range.x0_dims())
+    slack = [rounding.zeros_or(cz.slack, cz.nc), rounding.zeros_or(None if cz.pad is None else cz.pad[x0], n)]
+    slack_free = [rounding.zeros_or(cz.slack_free, cz.nc),
+                  rounding.zeros_or(None if cz.pad_free is None else cz.pad_free[x0], n)]
     rows_s, rows_eta, rhs = [], [], []
     rows_s.append(state(0))
     rows_eta.append(-factors(joint_range.x0_dims()))
     rhs.append(np.zeros(n))
     for l in range(stop):
-        rows_s.append(state(l + 1) - sp.csr_matrix(system.A(l)) @ state(l))
-        rows_eta.append(-sp.csr_matrix(system.B(l)) @ factors(joint_range.w_dims(l)))
+        A_l, B_l, w = system.A(l), system.B(l), list(joint_range.w_dims(l))
+        rows_s.append(state(l + 1) - sp.csr_matrix(A_l) @ state(l))
+        rows_eta.append(-sp.csr_matrix(B_l) @ factors(w))
         rhs.append(np.zeros(n))
+        magnitude = (np.abs(A_l) @ np.abs(nominal[l]) + np.abs(B_l) @ np.abs(c_J[w])
+                     + np.abs(system.input_term(l)))
+        bounded, free = charge(B_l, w)
+        slack.append(rounding.add(2.0 * rounding.gamma(n + B_l.shape[1] + 3) * magnitude, bounded))
+        slack_free.append(free)
     for l in range(stop + 1):
-        v = list(joint_range.v_dims(l))
-        rows_s.append(sp.csr_matrix(system.C(l)) @ state(l))
-        rows_eta.append(sp.csr_matrix(system.D(l)) @ factors(v))
-        rhs.append(ys[l] - system.D(l) @ c_J[v] - system.C(l) @ nominal[l])
+        C_l, D_l, v = system.C(l), system.D(l), list(joint_range.v_dims(l))
+        rows_s.append(sp.csr_matrix(C_l) @ state(l))
+        rows_eta.append(sp.csr_matrix(D_l) @ factors(v))
+        rhs.append(ys[l] - D_l @ c_J[v] - C_l @ nominal[l])
+        magnitude = np.abs(ys[l]) + np.abs(D_l) @ np.abs(c_J[v]) + np.abs(C_l) @ np.abs(nominal[l])
+        bounded, free = charge(D_l, v)
+        slack.append(rounding.add(2.0 * rounding.gamma(n + D_l.shape[1] + 3) * magnitude, bounded))
+        slack_free.append(free)
     A = sp.vstack([
         sp.hstack([sp.csr_matrix((cz.nc, n_states)), sp.csr_matrix(cz.A)]),
         sp.hstack([sp.vstack(rows_s), sp.vstack(rows_eta)]),
@@ -306,6 +332,8 @@ def _assemble(system, joint_range: JointRange, cz: ConstrainedZonotope, ys: np.n
     b = np.concatenate([cz.b, *rhs])
     G = sp.hstack([sp.identity(n_states, format="csc"), sp.csc_matrix((n_states, cz.ng))]).tocsc()
     h = np.concatenate([np.full(n_states, np.inf), cz.h])
-    trajectories = ConstrainedZonotope._trusted(G, nominal.reshape(-1), A, b, h)
+    trajectories = ConstrainedZonotope._trusted(G, nominal.reshape(-1), A, b, h,
+                                                slack=np.concatenate(slack),
+                                                slack_free=np.concatenate(slack_free))
     trajectories.factors  # created now, so that every projection shares one factor set
     return trajectories

@@ -90,6 +90,13 @@ class Box(ConvexSet):
         with np.errstate(invalid="ignore"):
             terms = np.where(D == 0, 0.0, D * corner)
         values = terms.sum(axis=1)
+        if certified:  # the sum's rounding (and underflowed products), charged unless exact:
+            # one nonzero term per direction (a coordinate axis), its product exact
+            exact = (np.count_nonzero(terms, axis=1) <= 1) & np.all(
+                rounding.products_exact(np.where(D == 0, 0.0, D), np.where(D == 0, 0.0, corner)),
+                axis=1)
+            values = np.where(exact, values,
+                              rounding.upper_bound(values, np.abs(terms).sum(axis=1), self.dim))
         with np.errstate(invalid="ignore"):  # −∞ + ∞ on free coordinates, replaced below
             mid = np.where(np.isfinite(self.lo) & np.isfinite(self.hi), (self.lo + self.hi) / 2,
                            np.where(np.isfinite(self.lo), self.lo,

@@ -23,7 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .._validation import as_matrix, as_vector, real_array
-from ..solvers import CZProgram, FactorConstraints, SupportSolution
+from ..solvers import CZProgram, FactorConstraints, SolverError, SupportSolution
 from . import _matrices as mx
 from . import rounding
 from .base import ConvexSet
@@ -232,19 +232,50 @@ class ConstrainedZonotope(ConvexSet):
             if certified is not False:
                 values = self._certified_closed_form(D, values)
             return values, points
-        return self._program.support(D, certified)
+        values, points = self._program.support(D, certified)
+        if certified is not False and self._charged and np.isneginf(values).any():
+            # The stored set is empty; the exact one may hold points within the rows' slack.
+            try:
+                relaxed = self.materialized()
+            except ValueError:
+                if certified is True:
+                    raise SolverError("UncertifiableReducedCost",
+                                      "certifying the support of a set stored empty: its exact rows "
+                                      "may be consistent within their rounding slack, which is "
+                                      "charged on free factors of unknown bound", kind="support")
+                return values, points
+            return relaxed._support(D, certified)
+        return values, points
 
     def _certified_closed_form(self, D: np.ndarray, values: np.ndarray) -> np.ndarray:
         """Upper bounds on the closed-form support values dᵀc + Σ_j h_j |(Gᵀd)_j| (no constraints):
-        their rounding (γ over the n + ng products and sums) and the pad, charged."""
+        their rounding (γ over the n + ng products and sums, η for each product that may have
+        underflowed, times h_j) and the pad, charged. A free factor makes the exact value +∞
+        unless its (Gᵀd)_j is exactly zero (checked in rationals where the computed one is zero but
+        not its rounding bound) and no rounded free column (``pad_free``) is seen."""
+        from ..solvers.certify import _exactly_cancelled
+
+        n = self.dim
         absG = abs(self.G) if sp.issparse(self.G) else np.abs(self.G)
-        hf = np.where(np.isfinite(self.h), self.h, 0.0)
-        magnitude = np.abs(D) @ np.abs(self.c) + np.asarray((absG.T @ np.abs(D).T).T) @ hf
-        err = 2.0 * rounding.gamma(self.dim + self.ng + 2) * magnitude
-        extra = 0.0 if self.pad is None else rounding.abs_matvec(D, self.pad)
-        with np.errstate(invalid="ignore"):
-            out = values + rounding.rounded_up(err + extra, self.dim + 2)
-        out = np.where(np.isfinite(values), np.nextafter(out, np.inf), values)
+        finite = np.isfinite(self.h)
+        hf = np.where(finite, self.h, 0.0)
+        reach = np.asarray((absG.T @ np.abs(D).T).T)  # (k, ng): Σ_i |G_ij d_i|
+        magnitude = np.abs(D) @ np.abs(self.c) + reach @ hf
+        out = rounding.upper_bound(values, magnitude, n + self.ng + 1, absolute=n * (1.0 + hf.sum()))
+        if self.pad is not None:
+            with np.errstate(invalid="ignore"):
+                out = np.nextafter(out + rounding.rounded_up(rounding.abs_matvec(D, self.pad), n),
+                                   np.inf)
+        if not finite.all():
+            free = np.flatnonzero(~finite)
+            for i in np.flatnonzero(np.isfinite(out)):
+                unsure = reach[i, free] > 0  # the computed (Gᵀd)_j = 0 there (else out is ∞)
+                seen_free_pad = (self.pad_free is not None
+                                 and rounding.abs_matvec(D[i], self.pad_free) > 0)
+                if seen_free_pad or (unsure.any() and not _exactly_cancelled(
+                        D[i:i + 1], self.G, sp.csc_matrix((0, self.ng)), np.zeros((1, 0)),
+                        free[unsure])):
+                    out[i] = np.inf
         return out
 
     def _interval_hulls_at_once(self) -> dict | None:
@@ -260,6 +291,8 @@ class ConstrainedZonotope(ConvexSet):
         eye = np.eye(self.dim)
         values, bounds = self._program.support_and_bounds(np.vstack([eye, -eye]))
         hulls = {False: self._box_of_supports(values, self.dim)}
+        if self._charged and bounds is not None and np.isneginf(bounds).any():
+            return hulls  # stored empty: the certified hulls are the relaxed set's (`_support`)
         if bounds is None:
             hulls[None] = hulls[False]
         else:
@@ -310,8 +343,23 @@ class ConstrainedZonotope(ConvexSet):
         points[~np.isfinite(values)] = np.nan
         return values, points
 
+    @property
+    def _charged(self) -> bool:
+        """Whether this CZ carries rounding charges (`setsmooth.sets.rounding`)."""
+        return not (self.pad is None and self._slack is None and self.pad_free is None
+                    and self._slack_free is None)
+
     def _is_empty(self) -> bool:
-        return self.factors.is_empty()
+        if not self.factors.is_empty():
+            return False
+        # The stored rows are inconsistent; the exact ones may not be, within their slack: the
+        # verdict is the materialized set's (slack written as generators) where there are charges.
+        if self._charged:
+            try:
+                return self.materialized().factors.is_empty()
+            except ValueError:  # free charges without a known bound: emptiness not shown
+                return False
+        return True
 
     def _contains(self, p: np.ndarray, margin) -> bool:
         # The distance program in normalized coordinates (x − p)/s, where the set and the margin

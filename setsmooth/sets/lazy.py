@@ -30,9 +30,12 @@ def _frozen_matrix(M, name: str, rows: int | None, cols: int):
 
 
 def _sum_supports(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """h_S + h_T with the empty set absorbing: −∞ + ∞ is −∞ (the sum is empty)."""
+    """h_S + h_T rounded up (so that certified values stay upper bounds), with the empty set
+    absorbing: −∞ + ∞ is −∞ (the sum is empty)."""
+    from .rounding import sum_up
+
     with np.errstate(invalid="ignore"):
-        out = a + b
+        out = sum_up(a, b)
     out[np.isneginf(a) | np.isneginf(b)] = -np.inf
     return out
 

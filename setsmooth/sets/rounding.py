@@ -42,13 +42,12 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from ..solvers.certify import gamma  # γ_k = k·u / (1 − k·u)
+from ..solvers.certify import _ETA, gamma  # η = 2⁻¹⁰⁷⁴; γ_k = k·u / (1 − k·u)
 
-__all__ = ["U", "gamma", "two_sum", "sum_with_error", "sum_down", "sum_up", "abs_matvec",
-           "product_error", "rounded_up", "add", "linear_image", "box_center_radius"]
+__all__ = ["U", "gamma", "two_sum", "sum_with_error", "sum_down", "sum_up", "abs_matvec", "zeros_or",
+           "product_error", "products_exact", "rounded_up", "upper_bound", "add", "linear_image", "box_center_radius"]
 
 U = np.finfo(float).eps / 2  # unit roundoff 2⁻⁵³
-_ETA = float(np.nextafter(0.0, 1.0))  # 2⁻¹⁰⁷⁴: the absolute error bound of a subnormal product
 
 
 def two_sum(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -90,6 +89,32 @@ def rounded_up(x: np.ndarray, terms: int = 1) -> np.ndarray:
     return np.where(x == 0.0, 0.0, out)
 
 
+def upper_bound(values: np.ndarray, magnitude: np.ndarray, terms: int,
+                absolute: np.ndarray | float = 0.0) -> np.ndarray:
+    """Upper bounds on exact sums of ``terms`` products computed as ``values``, whose products'
+    magnitudes sum to ``magnitude``: values + 2γ_{terms+1}·magnitude + (terms + absolute)·η, rounded
+    up (η for each product that may have underflowed; ``absolute`` more such terms, e.g. the
+    products a factor bound multiplies). Infinite and NaN values are returned as they are."""
+    values = np.asarray(values, dtype=float)
+    err = 2.0 * gamma(terms + 1) * np.asarray(magnitude) + (terms + np.asarray(absolute)) * _ETA
+    with np.errstate(invalid="ignore", over="ignore"):
+        out = np.nextafter(values + rounded_up(err, 2), np.inf)
+    return np.where(np.isfinite(values), out, values)
+
+
+def products_exact(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Elementwise: whether fl(a·b) = a·b exactly (TwoProduct; zero products are exact, products
+    that underflow or overflow are not)."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    with np.errstate(over="ignore", invalid="ignore"):
+        p = a * b
+        ah, al = _split(a)
+        bh, bl = _split(b)
+        err = ((ah * bh - p) + ah * bl + al * bh) + al * bl
+    return (p == 0) & ((a == 0) | (b == 0)) | ((err == 0) & (np.abs(p) >= _DEKKER_MIN)
+                                               & np.isfinite(p))
+
+
 def add(*charges) -> np.ndarray | None:
     """The sum of nonnegative charge vectors (None meaning zero), rounded up; None if all are."""
     parts = [np.asarray(c, dtype=float) for c in charges if c is not None]
@@ -99,6 +124,11 @@ def add(*charges) -> np.ndarray | None:
     for p in parts[1:]:
         total = total + p
     return rounded_up(total, len(parts)) if len(parts) > 1 else total
+
+
+def zeros_or(v: np.ndarray | None, size: int) -> np.ndarray:
+    """A charge vector, zeros of ``size`` for None (no charge)."""
+    return np.zeros(size) if v is None else np.asarray(v, dtype=float)
 
 
 def abs_matvec(M, v: np.ndarray) -> np.ndarray:
@@ -129,6 +159,7 @@ def _pattern(M):
 
 
 _SPLITTER = 2.0 ** 27 + 1.0  # Veltkamp's splitting constant for binary64
+_DEKKER_MIN = 2.0 ** -969     # TwoProduct is error-free above this (no subnormal partial product)
 
 
 def _split(M):
@@ -172,18 +203,29 @@ def product_error(M, X) -> np.ndarray | sp.spmatrix:
     magnitude = _abs(M) @ _abs(X)
     count = _pattern(M) @ _pattern(X)
     single_error = _single_products_exact(M, X, P)
+    # Dekker's algorithm needs no underflow: a single product below 2⁻⁹⁶⁹ (a subnormal partial
+    # product) or one that underflowed to zero is not taken as exact.
     if sparse:
         magnitude, count = sp.csr_matrix(magnitude), sp.csr_matrix(count)
         single_error = sp.csr_matrix(single_error)
         k = float(count.max()) if count.nnz else 0.0
+        seen = count.copy()
+        seen.data = np.ones(seen.data.size)
+        large = abs(sp.csr_matrix(P)).multiply(seen)
+        large.data = (large.data >= _DEKKER_MIN).astype(float)
+        small = seen - large
+        small.eliminate_zeros()
         # rounded: two or more terms, or one product that is not exact
-        rounded = (count > 1).maximum((count == 1).multiply(single_error != 0)).astype(float)
+        one = (count == 1)
+        rounded = (count > 1).maximum(one.multiply(single_error != 0)).maximum(
+            one.multiply(small > 0)).astype(float)
         E = magnitude.multiply(rounded) * (2.0 * float(gamma(k + 1))) + count.multiply(rounded) * _ETA
         return sp.csr_matrix(E)
     magnitude, count = np.asarray(magnitude), np.asarray(count)
     single_error = np.asarray(single_error)
     k = float(count.max(initial=0.0))
-    rounded = (count > 1) | ((count == 1) & (single_error != 0))
+    P = np.asarray(P)
+    rounded = (count > 1) | ((count == 1) & ((single_error != 0) | (np.abs(P) < _DEKKER_MIN)))
     return np.where(rounded, 2.0 * gamma(k + 1) * magnitude + count * _ETA, 0.0)
 
 
@@ -234,5 +276,6 @@ def box_center_radius(lo: np.ndarray, hi: np.ndarray):
     s, es = sum_with_error(lo, hi)
     t, et = sum_with_error(hi, -lo)
     c, r = s / 2, t / 2
-    pad = rounded_up((es + et) / 2 + np.where((es + et) > 0, _ETA, 0.0), 2)
+    halving_rounded = (2.0 * c != s) | (2.0 * r != t)  # subnormal halves: off by η/2 at most
+    pad = rounded_up((es + et) / 2 + np.where(((es + et) > 0) | halving_rounded, _ETA, 0.0), 2)
     return c, r, (pad if np.any(pad) else None)

@@ -89,7 +89,13 @@ class VPolytope(ConvexSet):
         rounding of one dot product per point)."""
         scores = D @ self.points.T
         best = np.argmax(scores, axis=1)
-        return scores[np.arange(D.shape[0]), best], self.points[best].copy()
+        values = scores[np.arange(D.shape[0]), best]
+        if certified:  # every point's dot product bounded above, then the largest
+            from . import rounding
+
+            values = rounding.upper_bound(scores, np.abs(D) @ np.abs(self.points).T,
+                                          self.dim).max(axis=1)
+        return values, self.points[best].copy()
 
     def interval_hull(self, *, path: str = "auto", certified: bool | None = None):
         if self._check_path(path) == "generic":

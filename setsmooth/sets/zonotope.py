@@ -82,10 +82,11 @@ class Zonotope(ConvexSet):
         points = np.sign(g) @ self.G.T + self.c
         if certified:
             magnitude = np.abs(D) @ np.abs(self.c) + np.abs(D) @ np.abs(self.G).sum(axis=1)
-            err = 2.0 * rounding.gamma(self.dim + self.ng + 2) * magnitude
+            values = rounding.upper_bound(values, magnitude, self.dim + self.ng + 1,
+                                          absolute=self.dim * self.ng)
             if self.pad is not None:
-                err = err + rounding.abs_matvec(D, self.pad)
-            values = np.nextafter(values + rounding.rounded_up(err, self.dim + 2), np.inf)
+                values = np.nextafter(values + rounding.rounded_up(rounding.abs_matvec(D, self.pad),
+                                                                   self.dim), np.inf)
         return values, points
 
     def interval_hull(self, *, path: str = "auto", certified: bool = False):

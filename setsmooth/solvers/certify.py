@@ -29,6 +29,7 @@ __all__ = ["gamma", "free_factor_bound", "normal_solver", "correct_multipliers",
            "FREE_BOUND_DENSE_MAX", "Operators"]
 
 _U = np.finfo(float).eps / 2  # unit roundoff
+_ETA = float(np.nextafter(0.0, 1.0))  # 2⁻¹⁰⁷⁴: the absolute error of a product that underflows
 
 #: The bound on the free factors needs the smallest singular value of A_F, computed densely (an
 #: eigenvalue problem of the nF × nF Gram matrix) up to this many free factors; beyond, no rigorous
@@ -227,14 +228,15 @@ def certified_bound(d: np.ndarray, G, c: np.ndarray, A: sp.csc_matrix, b: np.nda
     nc, ng = A.shape
     ops = Operators(G, A) if ops is None else ops
     g = np.asarray((ops.Gt @ d.T).T)
-    g_err = gamma(n + 1) * np.asarray((ops.absGt @ np.abs(d).T).T)
+    # + (n + 1)·η per column: products that underflowed (their factor bound h_j multiplies it)
+    g_err = gamma(n + 1) * np.asarray((ops.absGt @ np.abs(d).T).T) + (n + 1) * _ETA
     Atl = np.asarray((ops.At @ lam.T).T)
     absAtl = np.asarray((ops.absAt @ np.abs(lam).T).T)
     reduced = g - Atl
     # |computed r_j − exact r_j| ≤ γ_{m_j+2}(|g_j| + (|A|ᵀ|λ|)_j) + |g̃_j − g_j|; the computed |A|ᵀ|λ|
     # is itself inflated by (1 + γ) for its own rounding.
     gc = ops.gamma_cols
-    r_err = gc * (np.abs(g) + absAtl * (1.0 + gc)) + g_err
+    r_err = gc * (np.abs(g) + absAtl * (1.0 + gc)) + g_err + (nc + 1) * _ETA
     r_abs = np.abs(reduced) + r_err
     finite = np.isfinite(h)
     terms = r_abs[:, finite] @ h[finite]
@@ -290,6 +292,7 @@ def certified_bound(d: np.ndarray, G, c: np.ndarray, A: sp.csc_matrix, b: np.nda
     err = (gamma(n) * mag_c + gamma(nc) * mag_b + 2.0 * gamma(ng + 4) * np.abs(terms)
            + gamma(3) * (np.abs(offset) + np.abs(blam) + np.abs(terms) + np.abs(total)))
     nterms = n + nc + ng + 8
+    err = err + (n + nc + 4) * _ETA  # dᵀc and bᵀλ products that underflowed
     bound = np.nextafter(total + err * (1.0 + gamma(nterms)), np.inf)
     # The charges are added last, so that the bound of the stored set stays available as it was
     # (a bracket on the solver's answer), however large they are: one addition, rounded up.

@@ -180,3 +180,84 @@ def test_rounded_free_columns_are_charged_per_unit_of_the_free_factors():
         hi = A ** (k - i) * (Fraction(ys[i, 0]) + 1) + spread
         assert Fraction(hull.lo[0]) <= lo and Fraction(hull.hi[0]) >= hi
         assert float(hi - Fraction(hull.hi[0])) > -1e-12 and float(Fraction(hull.lo[0]) - lo) > -1e-12
+
+
+# -- regressions from an adversarial review of the charges (each failed before its fix) -----------
+
+ETA = 2.0 ** -1074
+
+
+def test_closed_forms_of_boxes_and_point_sets_round_their_certified_sums_up():
+    exact = Fraction(1) + Fraction(2) ** -60
+    assert Fraction(ss.Box([0.0, 0.0], [1.0, 2.0 ** -60]).support([1.0, 1.0], certified=True)) >= exact
+    assert Fraction(ss.VPolytope([[1.0, 2.0 ** -60]]).support([1.0, 1.0], certified=True)) >= exact
+    # a lazy Minkowski sum (one operand without a CZ form) adds its operands' values rounded up
+    W = ss.Box([0.0, -np.inf], [1.0, 0.0]) + ss.Zonotope([[2.0 ** -60], [0.0]], [0.0, 0.0])
+    assert Fraction(W.support([1.0, 0.0], certified=True)) >= exact
+
+
+def test_products_that_underflow_are_charged():
+    # direction products below the smallest subnormal, times a large factor bound
+    exact = Fraction(1e-200) * Fraction(1e-200) * Fraction(1e300)
+    free = ss.ConstrainedZonotope([[1e-200]], [0.0], h=[1e300])
+    constrained = ss.ConstrainedZonotope([[1e-200, 0.0]], [0.0], A=[[0.0, 1.0]], b=[0.0],
+                                         h=[1e300, 1.0])
+    for Z in (free, constrained):
+        assert Fraction(Z.support([1e-200], certified=True)) >= exact
+    many = ss.Zonotope(np.full((1, 1000), 2.0 ** -538), [0.0])
+    assert Fraction(many.support([2.0 ** -538], certified=True)) >= 1000 * Fraction(2) ** -1076
+    # a single product that underflows is not exact (Dekker's TwoProduct needs no underflow)
+    Y = np.array([[2.0 ** 1000]]) @ (np.array([[2.0 ** -600]]) @ ss.Zonotope([[2.0 ** -500]], [0.0]))
+    assert Fraction(Y.support([1.0], certified=True)) >= Fraction(2) ** -100
+    # halving a subnormal box width rounds
+    B = np.array([[2.0 ** 1000]]) @ ss.Box([0.0], [ETA])
+    assert Fraction(B.support([1.0], certified=True)) >= Fraction(2) ** 1000 * Fraction(ETA)
+
+
+def test_a_free_factor_that_the_rounded_direction_misses_is_not_certified_bounded():
+    # computed Gᵀd = 0 but exactly −2⁻⁵⁴: the exact support along the free factor is +∞
+    Z = ss.ConstrainedZonotope([[3.0], [1.0]], [0.0, 0.0], h=[np.inf])
+    assert Z.support([1 / 3, -1.0], certified=True) == np.inf
+    assert 0.0 <= Z.support([1.0, -3.0], certified=True) < 1e-300  # exactly cancelled: bounded
+    # a rounded free column (pad_free) seen by the direction
+    W = np.array([[1.0, 2.0 ** -60], [1.0, 0.0]]) @ ss.ConstrainedZonotope([[1.0], [1.0]], [0.0, 0.0],
+                                                                           h=[np.inf])
+    assert W.support([1.0, -1.0], certified=True) == np.inf
+
+
+def test_a_set_stored_empty_within_its_slack_is_not_certified_empty():
+    """1e12 + 0.3 rounds; a point y one ulp off the stored interval but inside the exact one: the
+    stored intersection is empty, the exact one is {y}."""
+    v, a = 1e12, 0.3
+    exact_c = Fraction(a) + Fraction(v)
+    stored_c = a + v
+    y = stored_c - np.spacing(stored_c) if Fraction(stored_c) > exact_c else stored_c + np.spacing(stored_c)
+    g = float(abs(Fraction(y) - exact_c))
+    g = g if Fraction(g) >= abs(Fraction(y) - exact_c) else float(np.nextafter(g, np.inf))
+    W = (ss.ConstrainedZonotope([[g]], [a]) + v) & ss.Box([y], [y])
+    assert not W.is_empty()
+    hull = W.interval_hull(certified=True)
+    assert Fraction(hull.lo[0]) <= Fraction(y) <= Fraction(hull.hi[0])
+    assert isinstance(W.interval_hull(), ss.Box)
+
+
+def _padded_joint_range():
+    s = 1e-12
+    a, b = 33354565.389577378, 14289568.381625196
+    Z = ss.ConstrainedZonotope(np.diag([s, s, s, s, 1.0]), [a, 3 * a, b, 7 * b, 0.0])
+    J = np.array([[3.0, -1.0, 7.0, -1.0, 0.0], [0.0, 0.0, 0.0, 0.0, 1.0]]) @ Z
+    cx = 3 * Fraction(a) - Fraction(3 * a) + 7 * Fraction(b) - Fraction(7 * b)
+    spread = 12 * Fraction(s)
+    return J, cx - spread, cx + spread
+
+
+def test_the_optimal_filter_and_joint_range_restrictions_keep_the_range_s_rounding():
+    J, lo, hi = _padded_joint_range()   # the stored centre is 0.0, the exact one −9.3e-9
+    assert J.c[0] == 0.0 and J.pad is not None
+    system = ss.LinearSystem([[1.0]], [[1.0]], [[1.0]], [[1.0]], ss.Box([-1.0], [1.0]), ss.Box([-1.0], [1.0]))
+    P = ss.optimal_filter(system, ss.JointRange(J, 1, 1, 1, 0), np.array([[0.0]]))[0]
+    R = ss.JointRange(J, 1, 1, 1, 0)
+    for S in (P, R.restrict([[0.0, 1.0]], [0.5]).set.project([0]),
+              R.restrict_halfspaces([[0.0, 1.0]], [0.5]).set.project([0])):
+        hull = S.interval_hull(certified=True)
+        assert Fraction(hull.lo[0]) <= lo and Fraction(hull.hi[0]) >= hi
