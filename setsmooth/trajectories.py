@@ -257,12 +257,13 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
         A.put(row, j * n, -Ak)
         A.put(row, col_w + j * Zw.ng, -(Bk @ Gw))
         rhs.append(np.zeros(n))
-        # x_{j+1} − A x_j − B G_w ξ_w − B e_w = B c_w + u − (x̄_{j+1} − A x̄_j): the nominal's error.
-        magnitude = np.abs(Ak) @ np.abs(nominal[j]) + np.abs(Bk) @ np.abs(Zw.c) + np.abs(uk)
+        # x_{j+1} − A x_j − B G_w ξ_w − B e_w = A x̄_j + B c_w + u − x̄_{j+1}: the nominal's error,
+        # bounded as accurately as in twice the working precision.
+        nominal_error = rounding.residual_bound([(Ak, nominal[j]), (Bk, Zw.c), (np.ones(n), uk),
+                                                 (-np.ones(n), nominal[j + 1])])
         if Bw_charge is None or not system.B.is_constant:
             Bw_charge = _product_charge(Bk, Gw, Zw)
-        slack.append(rounding.add(2.0 * rounding.gamma(n + Bk.shape[1] + 3) * magnitude,
-                                  Bw_charge[0]))
+        slack.append(rounding.add(nominal_error, Bw_charge[0]))
         slack_free.append(Bw_charge[1])
         row += n
     # measurements
@@ -273,11 +274,11 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
         A.put(row, j * n, Ck)
         A.put(row, col_v + j * Zv.ng, Dk @ Gv)
         rhs.append(ys[k] - Dk @ Zv.c - Ck @ nominal[j])
-        magnitude = np.abs(ys[k]) + np.abs(Dk) @ np.abs(Zv.c) + np.abs(Ck) @ np.abs(nominal[j])
+        rhs_error = rounding.residual_bound([(np.ones(m), ys[k]), (-Dk, Zv.c), (-Ck, nominal[j]),
+                                             (-np.ones(m), rhs[-1])])
         if Dv_charge is None or not system.D.is_constant:
             Dv_charge = _product_charge(Dk, Gv, Zv)
-        slack.append(rounding.add(2.0 * rounding.gamma(n + Dk.shape[1] + 3) * magnitude,
-                                  Dv_charge[0]))
+        slack.append(rounding.add(rhs_error, Dv_charge[0]))
         slack_free.append(Dv_charge[1])
         row += m
 

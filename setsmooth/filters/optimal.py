@@ -310,19 +310,22 @@ def _assemble(system, joint_range: JointRange, cz: ConstrainedZonotope, ys: np.n
         rows_s.append(state(l + 1) - sp.csr_matrix(A_l) @ state(l))
         rows_eta.append(-sp.csr_matrix(B_l) @ factors(w))
         rhs.append(np.zeros(n))
-        magnitude = (np.abs(A_l) @ np.abs(nominal[l]) + np.abs(B_l) @ np.abs(c_J[w])
-                     + np.abs(system.input_term(l)))
+        nominal_error = rounding.residual_bound([(A_l, nominal[l]), (B_l, c_J[w]),
+                                                 (np.ones(n), system.input_term(l)),
+                                                 (-np.ones(n), nominal[l + 1])])
         bounded, free = charge(B_l, w)
-        slack.append(rounding.add(2.0 * rounding.gamma(n + B_l.shape[1] + 3) * magnitude, bounded))
+        slack.append(rounding.add(nominal_error, bounded))
         slack_free.append(free)
     for l in range(stop + 1):
         C_l, D_l, v = system.C(l), system.D(l), list(joint_range.v_dims(l))
         rows_s.append(sp.csr_matrix(C_l) @ state(l))
         rows_eta.append(sp.csr_matrix(D_l) @ factors(v))
         rhs.append(ys[l] - D_l @ c_J[v] - C_l @ nominal[l])
-        magnitude = np.abs(ys[l]) + np.abs(D_l) @ np.abs(c_J[v]) + np.abs(C_l) @ np.abs(nominal[l])
+        m = C_l.shape[0]
+        rhs_error = rounding.residual_bound([(np.ones(m), ys[l]), (-D_l, c_J[v]), (-C_l, nominal[l]),
+                                             (-np.ones(m), rhs[-1])])
         bounded, free = charge(D_l, v)
-        slack.append(rounding.add(2.0 * rounding.gamma(n + D_l.shape[1] + 3) * magnitude, bounded))
+        slack.append(rounding.add(rhs_error, bounded))
         slack_free.append(free)
     A = sp.vstack([
         sp.hstack([sp.csr_matrix((cz.nc, n_states)), sp.csr_matrix(cz.A)]),
