@@ -141,8 +141,7 @@ class ConstrainedZonotope(ConvexSet):
         CZ's charges cover. For code that reads G, c, A, b, h directly (order reductions, programs
         built from a CZ's data).
         """
-        if self.pad is None and self._slack is None and self.pad_free is None \
-                and self._slack_free is None:
+        if not self._charged:
             return self
         pad, slack = self.pad, self._slack
         if self.pad_free is not None or self._slack_free is not None:
@@ -154,19 +153,17 @@ class ConstrainedZonotope(ConvexSet):
             slack = rounding.add(slack, None if self._slack_free is None else self._slack_free * beta)
         G, A, h = self.G, self.A, self.h
         sparse = mx.any_sparse(G, A)
-        if slack is not None:
-            rows = np.flatnonzero(slack)
-            S = sp.csc_matrix((slack[rows], (rows, np.arange(rows.size))),
-                              shape=(self.nc, rows.size))
-            A = mx.hstack([A, S if sparse else S.toarray()])
-            G = mx.hstack([G, mx.zeros_like_kind(self.dim, rows.size, sparse)])
-            h = np.concatenate([h, np.ones(rows.size)])
-        if pad is not None:
-            rows = np.flatnonzero(pad)
-            P = sp.csc_matrix((pad[rows], (rows, np.arange(rows.size))),
-                              shape=(self.dim, rows.size))
-            G = mx.hstack([G, P if sparse else P.toarray()])
-            A = mx.hstack([A, mx.zeros_like_kind(self.nc, rows.size, sparse)])
+        # New factors of bound 1: the slack's columns in A (zero in G), the pad's in G (zero in A).
+        for charge, in_A in ((slack, True), (pad, False)):
+            if charge is None:
+                continue
+            rows = np.flatnonzero(charge)
+            D = sp.csc_matrix((charge[rows], (rows, np.arange(rows.size))),
+                              shape=(self.nc if in_A else self.dim, rows.size))
+            D = D if sparse else D.toarray()
+            zeros = mx.zeros_like_kind(self.dim if in_A else self.nc, rows.size, sparse)
+            A = mx.hstack([A, D if in_A else zeros])
+            G = mx.hstack([G, zeros if in_A else D])
             h = np.concatenate([h, np.ones(rows.size)])
         return ConstrainedZonotope._trusted(G, self.c, A, self.b, h)
 
