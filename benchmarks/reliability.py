@@ -172,12 +172,27 @@ def failed_cases(results: list[compare.CaseResult], limit: int = 40) -> str:
     return f"Failing cases: {len(lines)}{more}\n" + "\n".join(lines[:limit])
 
 
+def crashed_in_logs(paths: list[Path]) -> list[str]:
+    """The tasks that crashed outside the estimators, from ``--log`` files."""
+    return [json.loads(line)["message"] for path in paths for line in path.read_text().splitlines()
+            if '"crashed"' in line]
+
+
+def print_crashed(crashed: list[str]) -> None:
+    if crashed:
+        print(f"\nTasks that crashed outside the estimators (counted nowhere above): {len(crashed)}")
+        for line in crashed:
+            print("  " + line)
+
+
 def read_log(paths: list[Path]) -> tuple[list[compare.CaseResult], list[tuple]]:
     """Case results and oracle failures from ``--log`` files (later lines win for a repeated case)."""
     cases, failed = {}, {}
     for path in paths:
         for line in path.read_text().splitlines():
             record = json.loads(line)
+            if "crashed" in record:
+                continue  # `crashed_in_logs`
             if "oracle_failed" in record:
                 failed[record["oracle_failed"]] = ("oracle", record["oracle_failed"], record["message"])
                 continue
@@ -285,6 +300,7 @@ def main(argv=None) -> None:
         print(f"## setsmooth reliability from {', '.join(map(str, args.from_log))}: {systems} systems, "
               f"{len(case_results)} cases\n")
         print_system_tables(case_results, oracle_failed)
+        print_crashed(crashed_in_logs(args.from_log))
         return
     estimators = tuple(e.strip() for e in args.estimators.split(",") if e.strip())
     unknown = [e for e in estimators if e not in compare.ESTIMATORS]
@@ -307,6 +323,7 @@ def main(argv=None) -> None:
         for s in range(args.long_horizon):
             futures[pool.submit(long_horizon_task, s, args.horizon)] = "long"
         stopped = False
+        crashed: list[str] = []
         for fut in tqdm(as_completed(futures), total=len(futures), desc="reliability", unit="task"):
             if fut.cancelled():
                 continue
@@ -316,7 +333,12 @@ def main(argv=None) -> None:
                 for other in futures:
                     other.cancel()  # the ones not started; running ones finish and are counted
             kind = futures[fut]
-            out = fut.result()
+            try:
+                out = fut.result()
+            except Exception as exc:  # noqa: BLE001 - one task's crash is a finding, not the run's end
+                crashed.append(f"{kind} task: {type(exc).__name__}: {str(exc).splitlines()[0][:160]}")
+                _log_line(log, {"crashed": kind, "message": crashed[-1]})
+                continue
             if kind == "system":
                 systems_done += 1
                 results, w = out

@@ -102,10 +102,16 @@ def exact_geometry(S):
         return None
     if V.shape[0] == 0:
         raise ValueError("cannot sample from an empty set")
+    from scipy.spatial import QhullError
+
     try:
         return hull_geometry(V)
     except ValueError as err:
         raise ValueError(f"cannot sample uniformly from {type(S).__name__}: {err}") from None
+    except QhullError:
+        # Nearly degenerate vertex sets (a 5-D CZ of reliability system 209: "wide merge") defeat
+        # Qhull's triangulation: no exact geometry, so 'auto' samples by hit-and-run instead.
+        return None
 
 
 def hit_and_run(S, rng: np.random.Generator, size: int = 1, *, burn_in: int | None = None,

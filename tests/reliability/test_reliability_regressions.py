@@ -231,3 +231,11 @@ def test_trajectory_rows_carry_the_rounding_of_the_nominal_trajectory():
             assert abs(exact) <= Fraction(slack[row])
             worst = max(worst, float(abs(exact)))
     assert worst > 0  # the nominal does round at 1e6
+
+
+def test_a_prior_whose_vertices_defeat_qhull_is_still_sampled():
+    """Reliability system 209: X0 is a 5-D CZ whose vertex set is so nearly degenerate that Qhull's
+    triangulation fails ('wide merge'); drawing x_0 crashed the whole benchmark. Sampling falls back
+    to hit-and-run ('auto'), and the case is generated."""
+    case = base_case(2026, 209)
+    assert case.X0.contains(case.xs[0])
