@@ -272,6 +272,9 @@ def main(argv=None) -> None:
     ap.add_argument("--systems", type=int, default=250)
     ap.add_argument("--start", type=int, default=0, help="index of the first system (to split a "
                     "run over several invocations: systems start .. start + systems − 1)")
+    ap.add_argument("--indices", default=None, metavar="I,J,...",
+                    help="comma-separated system indices to run instead of --start/--systems (to re-run "
+                         "the systems a generator change touched)")
     ap.add_argument("--seed", type=int, default=2026)
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--rescaled", type=int, default=60)
@@ -302,6 +305,15 @@ def main(argv=None) -> None:
         print_system_tables(case_results, oracle_failed)
         print_crashed(crashed_in_logs(args.from_log))
         return
+    if args.indices is not None:
+        try:
+            indices = [int(i) for i in args.indices.split(",") if i.strip()]
+        except ValueError:
+            ap.error(f"--indices must be comma-separated non-negative integers, got {args.indices!r}")
+        if not indices or min(indices) < 0:
+            ap.error(f"--indices must be comma-separated non-negative integers, got {args.indices!r}")
+    else:
+        indices = list(range(args.start, args.start + args.systems))
     estimators = tuple(e.strip() for e in args.estimators.split(",") if e.strip())
     unknown = [e for e in estimators if e not in compare.ESTIMATORS]
     if unknown or not estimators:
@@ -317,7 +329,7 @@ def main(argv=None) -> None:
         # time limit covers a prefix of the systems (every kind and noise, see base_case).
         for i in range(args.rescaled):
             futures[pool.submit(rescale_task, args.seed, args.rescaled, i)] = "rescale"
-        for i in range(args.start, args.start + args.systems):
+        for i in indices:
             futures[pool.submit(system_task, args.seed, i, i < args.witness, tuple(args.T_range),
                                 tuple(args.n_range), estimators)] = "system"
         for s in range(args.long_horizon):
@@ -357,10 +369,12 @@ def main(argv=None) -> None:
     if log is not None:
         log.close()
 
-    if systems_done < args.systems:
-        print(f"\nTime limit of {args.time_limit:.0f} s reached: {systems_done} of {args.systems} "
+    if systems_done < len(indices):
+        print(f"\nTime limit of {args.time_limit:.0f} s reached: {systems_done} of {len(indices)} "
               "systems finished; the tables count those.")
     first = f" from index {args.start}" if args.start else ""
+    if args.indices is not None:
+        first = f" (indices {args.indices})"
     print(f"\n## setsmooth reliability: seed {args.seed}, {systems_done} systems{first} (T = {args.T_range[0]}.."
           f"{args.T_range[1]}, n = {args.n_range[0]}..{args.n_range[1]}) × {len(REGIMES)} regimes × "
           f"{len(estimators)} estimators ({', '.join(estimators)}; {elapsed:.0f} s on {args.workers} workers)\n")
