@@ -16,12 +16,21 @@ about the nominal trajectory x̄_0 = c_p, x̄_{j+1} = A x̄_j + B c_w + u_{i+j}.
 system and δ̄ only, so they are built once: a step computes the nominal trajectory and b (O(δ̄ n²)
 flops) and wraps the five arrays, nothing else. Every window shares G and A, which is what lets the
 interval hulls reuse one solver instance (`setsmooth.solvers.parametric`).
+
+Rounding. G, A, the nominal trajectory and b are computed in floating point, so the stored window is
+not exactly F_{k,k−δ̄}(Z). `Window.charged_data` returns, with (c, b, h), the rounding charges of
+`setsmooth.sets.rounding` that make the stored window an enclosure of the exact one: the matrices'
+errors (bounded once per window structure through the chain of powers A^j = A·A^{j−1}) times the
+factor bounds, and per step the nominal trajectory's drift (each step's residual bounded in extended
+precision, propagated through |A|) and the rounding of b. The prior (M, c_p, h_p) is taken as
+given: it is exact by definition.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from ..sets import rounding
 from ..sets.constrained_zonotope import ConstrainedZonotope
 
 __all__ = ["Window"]
@@ -44,7 +53,10 @@ class Window:
         self.system = system
         self.delta_bar = d = int(delta_bar)
         A, B, C, D = (np.asarray(f(0), dtype=float) for f in (system.A, system.B, system.C, system.D))
-        Wz, Vz = system.W.to_constrained_zonotope(), system.V.to_constrained_zonotope()
+        # A noise set converted with rounding charges (a box whose midpoint is not representable)
+        # has them written as generators, so the window's noise blocks are exact copies.
+        Wz, Vz = (S.to_constrained_zonotope() for S in (system.W, system.V))
+        Wz, Vz = (Z.materialized() if Z._charged else Z for Z in (Wz, Vz))
         Gw, Gv = _dense(Wz.G), _dense(Vz.G)
         Aw, Av = _dense(Wz.A), _dense(Vz.A)
         n, m = system.n, system.m
@@ -55,15 +67,25 @@ class Window:
         nrows = d * ncw + (d + 1) * ncv + (d + 1) * m
         col_w, col_v = r, r + d * pw
 
-        powers = [np.eye(n)]
+        # The matrices with elementwise bounds on their rounding (None: exact), `_chain`.
+        powers, dpowers = [np.eye(n)], [None]
         for _ in range(d):
             powers.append(A @ powers[-1])
+            dpowers.append(_chain(A, None, powers[-2], dpowers[-1]))
+        CP = [C @ P for P in powers]
+        dCP = [_chain(C, None, P, dP) for P, dP in zip(powers, dpowers)]
         BG = B @ Gw
+        dBG = _chain(B, None, Gw, None)
         G = np.zeros((n, self.ng))
+        dG = np.zeros((n, self.ng))
         G[:, :r] = powers[d] @ M
+        dG[:, :r] = _dense_or_zero(_chain(powers[d], dpowers[d], M, None), (n, r))
         for l in range(d):
-            G[:, col_w + l * pw: col_w + (l + 1) * pw] = powers[d - 1 - l] @ BG
+            cols = slice(col_w + l * pw, col_w + (l + 1) * pw)
+            G[:, cols] = powers[d - 1 - l] @ BG
+            dG[:, cols] = _dense_or_zero(_chain(powers[d - 1 - l], dpowers[d - 1 - l], BG, dBG), (n, pw))
         Amat = np.zeros((nrows, self.ng))
+        dA = np.zeros((nrows, self.ng))
         row = 0
         for l in range(d):
             Amat[row:row + ncw, col_w + l * pw: col_w + (l + 1) * pw] = Aw
@@ -73,13 +95,22 @@ class Window:
             row += ncv
         self.meas_row = row
         DGv = D @ Gv
+        dDGv = _dense_or_zero(_chain(D, None, Gv, None), (m, qv))
         for j in range(d + 1):
             rows = slice(row, row + m)
-            Amat[rows, :r] = C @ powers[j] @ M
+            Amat[rows, :r] = CP[j] @ M
+            dA[rows, :r] = _dense_or_zero(_chain(CP[j], dCP[j], M, None), (m, r))
             for l in range(j):
-                Amat[rows, col_w + l * pw: col_w + (l + 1) * pw] = C @ powers[j - 1 - l] @ BG
+                cols = slice(col_w + l * pw, col_w + (l + 1) * pw)
+                Amat[rows, cols] = CP[j - 1 - l] @ BG
+                dA[rows, cols] = _dense_or_zero(_chain(CP[j - 1 - l], dCP[j - 1 - l], BG, dBG), (m, pw))
             Amat[rows, col_v + j * qv: col_v + (j + 1) * qv] = DGv
+            dA[rows, col_v + j * qv: col_v + (j + 1) * qv] = dDGv
             row += m
+        self._dG = dG if dG.any() else None
+        self._dA = dA if dA.any() else None
+        self._absA, self._absC = np.abs(A), np.abs(C)
+        self._B, self._D, self._cw, self._cv = B, D, Wz.c, Vz.c
         for arr in (G, Amat):
             arr.flags.writeable = False
         self.G, self.A = G, Amat
@@ -92,27 +123,77 @@ class Window:
 
     def data(self, ys: np.ndarray, k: int, c_p: np.ndarray, h_p: np.ndarray
              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(c, b, h) of the window ending at time k (prior at i = k − δ̄ with centre c_p, bounds h_p)."""
-        d, m = self.delta_bar, self.system.m
+        """(c, b, h) of the window ending at time k (prior at i = k − δ̄ with centre c_p, bounds h_p),
+        without the rounding charges (`charged_data`)."""
+        return self.charged_data(ys, k, c_p, h_p)[:3]
+
+    def charged_data(self, ys: np.ndarray, k: int, c_p: np.ndarray, h_p: np.ndarray
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
+        """(c, b, h, charges): `data` and the rounding charges (``pad``, ``slack``, ``pad_free``,
+        ``slack_free``; None where zero) under which the stored window encloses the exact one.
+
+        With x̄_j the computed nominal states and x*_j the exact ones (x*_0 = x̄_0 = c_p),
+        δ_j = x*_j − x̄_j obeys δ_{j+1} = A δ_j + r_j, r_j = A x̄_j + B c_w + u − x̄_{j+1} the residual of
+        the computed step: |δ_j| ≤ Δ_j, Δ_{j+1} = |A|Δ_j + bound(r_j). So the centre is padded by Δ_δ̄
+        and measurement row j's slack is |C|Δ_j plus the rounding of its b; the matrices' errors add
+        |ΔG| h and |ΔA| h (per unit of ‖ξ_F‖∞ on free factors).
+        """
+        d, m, n = self.delta_bar, self.system.m, self.n
         i = k - d
         b = np.empty(self.A.shape[0])
         b[:self.meas_row] = self._b_fixed
-        x = np.asarray(c_p, dtype=float)
-        row = self.meas_row
+        nominal = [np.asarray(c_p, dtype=float)]
+        inputs = []
         has_input = self.system.has_input
         for j in range(d + 1):
-            b[row:row + m] = ys[i + j] - self._Dcv - self._C @ x
-            row += m
+            x = nominal[-1]
+            b[self.meas_row + j * m: self.meas_row + (j + 1) * m] = ys[i + j] - self._Dcv - self._C @ x
             if j < d:
+                u = self.system.input_term(i + j) if has_input else np.zeros(n)
                 x = self._sysA @ x + self._Bcw
                 if has_input:
-                    x = x + self.system.input_term(i + j)
+                    x = x + u
+                nominal.append(x)
+                inputs.append(u)
         h = np.concatenate([h_p, self._h_noise])
-        return x, b, h
+        meas = slice(self.meas_row, self.meas_row + (d + 1) * m)
+        # Every step's residual and every measurement row's rounding, in two extended-precision
+        # products (one column per step).
+        X = np.array(nominal).T                                   # (n, d + 1)
+        B_meas = b[meas].reshape(d + 1, m).T                       # (m, d + 1)
+        b_error = rounding.extended_residual_bound(
+            [(np.ones(m), np.asarray(ys[i:k + 1], dtype=float).T), (-self._D, np.repeat(self._cv[:, None], d + 1, axis=1)),
+             (-self._C, X), (-np.ones(m), B_meas)])
+        if d:
+            step_error = rounding.extended_residual_bound(
+                [(self._sysA, X[:, :d]), (self._B, np.repeat(self._cw[:, None], d, axis=1)), (np.ones(n), np.array(inputs).T),
+                 (-np.ones(n), X[:, 1:])])
+        drift = np.zeros(n)
+        meas_slack = np.empty((d + 1, m))
+        for j in range(d + 1):
+            meas_slack[j] = rounding.rounded_up(b_error[:, j] + self._absC @ drift, n + 1)
+            if j < d:
+                drift = rounding.rounded_up(self._absA @ drift + step_error[:, j], n + 1)
+        slack = np.zeros(self.A.shape[0])
+        slack[meas] = meas_slack.reshape(-1)
+        pad, pad_free, slack_free = drift, None, None
+        if self._dG is not None:
+            bounded, free = rounding._weighted_rows(self._dG, h)
+            pad = rounding.add(pad, bounded)
+            pad_free = free if free.any() else None
+        if self._dA is not None:
+            bounded, free = rounding._weighted_rows(self._dA, h)
+            slack = rounding.add(slack, bounded)
+            slack_free = free if free.any() else None
+        charges = {"pad": pad if pad.any() else None, "slack": slack if slack.any() else None,
+                   "pad_free": pad_free, "slack_free": slack_free}
+        return nominal[-1], b, h, charges
 
     def estimate(self, ys: np.ndarray, k: int, c_p: np.ndarray, h_p: np.ndarray) -> ConstrainedZonotope:
-        """F_{k,k−δ̄}(Z(M, c_p, [], [], h_p)) as an extended CZ sharing this window's G and A."""
-        return self.estimate_from(*self.data(ys, k, c_p, h_p))
+        """F_{k,k−δ̄}(Z(M, c_p, [], [], h_p)) as an extended CZ sharing this window's G and A, with
+        the rounding charges that make it an enclosure of the exact window (`charged_data`)."""
+        c, b, h, charges = self.charged_data(ys, k, c_p, h_p)
+        return self.estimate_from(c, b, h, **charges)
 
     def free(self, count: int) -> np.ndarray:
         """The free-factor pattern when the prior's first ``count`` factors are free (h = ∞)."""
@@ -120,15 +201,32 @@ class Window:
         out[:count] = True
         return out
 
-    def estimate_from(self, c: np.ndarray, b: np.ndarray, h: np.ndarray) -> ConstrainedZonotope:
-        """The window CZ with this window's G and A and the given (c, b, h).
+    def estimate_from(self, c: np.ndarray, b: np.ndarray, h: np.ndarray,
+                      pad: np.ndarray | None = None, slack: np.ndarray | None = None,
+                      pad_free: np.ndarray | None = None, slack_free: np.ndarray | None = None
+                      ) -> ConstrainedZonotope:
+        """The window CZ with this window's G and A, the given (c, b, h) and rounding charges.
 
         G and A are not copied: every window shares this object's private read-only arrays (the CZ
         constructor's defensive copy is for arrays a caller might still write to).
         """
         Z = ConstrainedZonotope._trusted(self._G0, c, self._A0, b, h)
         Z.G, Z.A = self.G, self.A
+        if not (pad is None and slack is None and pad_free is None and slack_free is None):
+            Z = ConstrainedZonotope._trusted(self.G, c, self.A, b, h, pad=pad, slack=slack,
+                                             pad_free=pad_free, slack_free=slack_free)
+            Z.G, Z.A = self.G, self.A
         return Z
+
+
+def _chain(X, dX, Y, dY) -> np.ndarray | None:
+    """The error bound of fl(X·Y) (`rounding.chained_product_error`), None when it is zero."""
+    err = rounding.chained_product_error(_dense(X), dX, _dense(Y), dY)
+    return err if err.any() else None
+
+
+def _dense_or_zero(E: np.ndarray | None, shape: tuple[int, int]) -> np.ndarray:
+    return np.zeros(shape) if E is None else E
 
 
 def _dense(M) -> np.ndarray:

@@ -63,11 +63,11 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
         zero, free = np.zeros(n), np.full(n, np.inf)
         for k in range(d, T + 1):
             t0 = perf_counter()
-            c, b, h = window.data(ys, k, zero, free)
-            estimates.append(window.estimate_from(c, b, h))
+            c, b, h, charges = window.charged_data(ys, k, zero, free)
+            estimates.append(window.estimate_from(c, b, h, **charges))
             t1 = perf_counter()
             if want_hulls:
-                lo[k], hi[k] = _bounds(engine.values(c, b, h), n)
+                lo[k], hi[k] = _bounds(engine.values(c, b, h, **charges), n)
             step_s[k], hull_s[k] = t1 - t0, perf_counter() - t1
         return result()
 
@@ -99,10 +99,10 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
             c_p = U @ np.concatenate([Po @ centre, c_ball])
             pad = pad_unit * (float(np.abs(centre).max()) + float(np.abs(c_ball).max(initial=0.0)))
             h_p = np.concatenate([radius + _ulp(hi[i], lo[i]) + pad, np.full(n_obar, a_ball + pad)])
-        c, b, h = window.data(ys, k, c_p, h_p)
-        Zk = window.estimate_from(c, b, h)
+        c, b, h, charges = window.charged_data(ys, k, c_p, h_p)
+        Zk = window.estimate_from(c, b, h, **charges)
         estimates.append(Zk)
-        values = engine.values(c, b, h)
+        values = engine.values(c, b, h, **charges)
         lo[k], hi[k] = _bounds(values[:2 * n], n)
         in_lo, in_hi = _bounds(values[2 * n:2 * n + 2 * n_obar], n_obar)
         # Line 9: IH(Ã_21 Z̃^o_k ⊕ B̃_ō W) = IH(Ã_21 Z̃^o_k) ⊕ IH(B̃_ō W).

@@ -98,7 +98,9 @@ class ParametricSupport:
         settings.presolve_enable = False  # keeps the rows fixed, so that data updates are allowed
         return clarabel.DefaultSolver(_zero_cost(self.ng), self._q[0].copy(), M, b0, cones, settings)
 
-    def values(self, c: np.ndarray, b: np.ndarray, h: np.ndarray) -> np.ndarray:
+    def values(self, c: np.ndarray, b: np.ndarray, h: np.ndarray, *, pad: np.ndarray | None = None,
+               slack: np.ndarray | None = None, pad_free: np.ndarray | None = None,
+               slack_free: np.ndarray | None = None) -> np.ndarray:
         """Upper bounds on h_Z(d_j), j = 1..K, for Z = Z(G, c, A, b, h) (certified).
 
         Parameters
@@ -107,6 +109,9 @@ class ParametricSupport:
         b : ndarray, shape (nc,)
         h : ndarray, shape (ng,)
             Finite exactly where ``free`` is False.
+        pad, slack, pad_free, slack_free : ndarray, optional
+            Rounding charges (`setsmooth.sets.rounding`): the bounds then hold for the exact set the
+            stored one encloses (e.g. `setsmooth.filters._window.Window.charged_data`).
 
         Returns
         -------
@@ -130,20 +135,21 @@ class ParametricSupport:
                 z = np.asarray(sol.z)[:self.nc]
                 if np.all(np.isfinite(z)):
                     lam[j], ok[j] = z, True
+        charges = {"pad": pad, "slack": slack, "pad_free": pad_free, "slack_free": slack_free}
         out = np.empty(K)
         if ok.any():
             try:
-                out[ok] = self._certify(c, b, h, lam[ok], ok)
+                out[ok] = self._certify(c, b, h, lam[ok], ok, charges)
             except SolverError:  # an uncertifiable multiplier: the verified path decides
                 ok[:] = False
         if not ok.all():
             from ..sets.constrained_zonotope import ConstrainedZonotope
 
-            Z = ConstrainedZonotope._trusted(self.G, c, self.A, b, h)
+            Z = ConstrainedZonotope._trusted(self.G, c, self.A, b, h, **charges)
             out[~ok] = Z.support_many(self.D[~ok], certified=True)
         return out
 
-    def _certify(self, c, b, h, lam, ok) -> np.ndarray:
+    def _certify(self, c, b, h, lam, ok, charges: dict) -> np.ndarray:
         D = self.D[ok]
         beta = 0.0
         if self._AF.shape[1]:
@@ -151,16 +157,26 @@ class ParametricSupport:
             if self._correction is not None:
                 for _ in range(2):  # the second pass removes what the first left by rounding
                     lam = lam + (gF - lam @ self._AF) @ self._correction.T
-            beta = self._free_bound(b, h)
-        return certified_bound(D, self.G, c, self.A, b, h, lam, beta, self._ops)
+            beta = self._free_bound(b, h, charges["slack"], charges["slack_free"])
+        return certified_bound(D, self.G, c, self.A, b, h, lam, beta, self._ops, **charges)
 
-    def _free_bound(self, b: np.ndarray, h: np.ndarray) -> float | None:
-        """β ≥ max ‖ξ_F‖∞ over the factor set, as `certify.free_factor_bound` (its λ_min once)."""
+    def _free_bound(self, b: np.ndarray, h: np.ndarray, slack: np.ndarray | None = None,
+                    slack_free: np.ndarray | None = None) -> float | None:
+        """β ≥ max ‖ξ_F‖∞ over the (relaxed) factor set, as `certify.free_factor_bound` (its λ_min
+        once): the rows' slack adds to the residual, and the free columns' slack per unit of ‖ξ_F‖
+        comes off σ_min."""
         if self._lam_min is None:
             return None
         residual = np.abs(b[self._rows]) + self._abs_ARB @ h[self.fin]
-        rhs = np.linalg.norm(residual) * (1.0 + gamma(self.ng + 4))
-        bound = rhs / np.sqrt(self._lam_min) * (1.0 + gamma(8))
+        if slack is not None:
+            residual = residual + slack[self._rows]
+        rhs = np.linalg.norm(residual) * (1.0 + gamma(self.ng + 5))
+        sigma = np.sqrt(self._lam_min) * (1.0 - gamma(4))
+        if slack_free is not None:
+            sigma = sigma - np.linalg.norm(slack_free[self._rows]) * (1.0 + gamma(self._rows.size + 4))
+            if not sigma > 0:
+                return None
+        bound = rhs / sigma * (1.0 + gamma(8))
         return float(bound) if np.isfinite(bound) else None
 
 

@@ -281,3 +281,25 @@ def test_the_residual_of_a_nominal_step_is_bounded_to_twice_the_working_precisio
             assert abs(exact) <= Fraction(bound[i])
             over.append(float(Fraction(bound[i]) - abs(exact)))
     assert max(over) < 1e-20
+
+
+def test_the_extended_precision_residual_bound_holds_in_rationals():
+    """`extended_residual_bound` (one product in np.longdouble per pair, several residuals as columns)
+    against exact rationals: sound on every row and column, and within a few 2⁻⁶⁴·Σ|terms| of the
+    exact residual where the format is wider than binary64."""
+    rng = np.random.default_rng(9)
+    u_ext = float(np.finfo(np.longdouble).eps) / 2
+    for _ in range(40):
+        A, B = rng.normal(size=(4, 4)), rng.normal(size=(4, 2))
+        X, c = rng.normal(size=(4, 3)) * 1e6, rng.normal(size=(2, 3))
+        nxt = A @ X + B @ c
+        bound = rounding.extended_residual_bound([(A, X), (B, c), (-np.ones(4), nxt)])
+        assert bound.shape == (4, 3)
+        for i in range(4):
+            for k in range(3):
+                exact = (sum(Fraction(A[i, j]) * Fraction(X[j, k]) for j in range(4))
+                         + sum(Fraction(B[i, j]) * Fraction(c[j, k]) for j in range(2))
+                         - Fraction(nxt[i, k]))
+                assert abs(exact) <= Fraction(bound[i, k])
+                magnitude = np.abs(A[i]) @ np.abs(X[:, k]) + np.abs(nxt[i, k])
+                assert float(Fraction(bound[i, k]) - abs(exact)) <= 64 * max(u_ext, 2.0**-64) * magnitude
