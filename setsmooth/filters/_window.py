@@ -107,6 +107,13 @@ class Window:
             Amat[rows, col_v + j * qv: col_v + (j + 1) * qv] = DGv
             dA[rows, col_v + j * qv: col_v + (j + 1) * qv] = dDGv
             row += m
+        # For a prior that is the whole space (M = I, all factors free) any centre c_p describes the
+        # same window; `centred_prior` picks the least-squares one through the measurement rows'
+        # prior block (the observability matrix [C; CA; …; CA^δ̄]), so that the free factors, and
+        # the bound β on them that every certificate multiplies, stay of the noise's scale instead
+        # of the states' (4e-3 of the width looser at states 1e6 with c_p = 0).
+        prior_rows = Amat[self.meas_row:, :r]
+        self._prior_pinv = np.linalg.pinv(prior_rows) if r == n else None
         self._dG = dG if dG.any() else None
         self._dA = dA if dA.any() else None
         self._absA, self._absC = np.abs(A), np.abs(C)
@@ -125,19 +132,11 @@ class Window:
              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(c, b, h) of the window ending at time k (prior at i = k − δ̄ with centre c_p, bounds h_p),
         without the rounding charges (`charged_data`)."""
-        return self.charged_data(ys, k, c_p, h_p)[:3]
+        nominal, _, b = self._nominal(ys, k, c_p)
+        return nominal[-1], b, np.concatenate([h_p, self._h_noise])
 
-    def charged_data(self, ys: np.ndarray, k: int, c_p: np.ndarray, h_p: np.ndarray
-                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
-        """(c, b, h, charges): `data` and the rounding charges (``pad``, ``slack``, ``pad_free``,
-        ``slack_free``; None where zero) under which the stored window encloses the exact one.
-
-        With x̄_j the computed nominal states and x*_j the exact ones (x*_0 = x̄_0 = c_p),
-        δ_j = x*_j − x̄_j obeys δ_{j+1} = A δ_j + r_j, r_j = A x̄_j + B c_w + u − x̄_{j+1} the residual of
-        the computed step: |δ_j| ≤ Δ_j, Δ_{j+1} = |A|Δ_j + bound(r_j). So the centre is padded by Δ_δ̄
-        and measurement row j's slack is |C|Δ_j plus the rounding of its b; the matrices' errors add
-        |ΔG| h and |ΔA| h (per unit of ‖ξ_F‖∞ on free factors).
-        """
+    def _nominal(self, ys: np.ndarray, k: int, c_p: np.ndarray) -> tuple[list, list, np.ndarray]:
+        """The nominal states x̄_0..x̄_δ̄ from c_p, the inputs u_i..u_{k−1}, and b."""
         d, m, n = self.delta_bar, self.system.m, self.n
         i = k - d
         b = np.empty(self.A.shape[0])
@@ -155,6 +154,22 @@ class Window:
                     x = x + u
                 nominal.append(x)
                 inputs.append(u)
+        return nominal, inputs, b
+
+    def charged_data(self, ys: np.ndarray, k: int, c_p: np.ndarray, h_p: np.ndarray
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
+        """(c, b, h, charges): `data` and the rounding charges (``pad``, ``slack``, ``pad_free``,
+        ``slack_free``; None where zero) under which the stored window encloses the exact one.
+
+        With x̄_j the computed nominal states and x*_j the exact ones (x*_0 = x̄_0 = c_p),
+        δ_j = x*_j − x̄_j obeys δ_{j+1} = A δ_j + r_j, r_j = A x̄_j + B c_w + u − x̄_{j+1} the residual of
+        the computed step: |δ_j| ≤ Δ_j, Δ_{j+1} = |A|Δ_j + bound(r_j). So the centre is padded by Δ_δ̄
+        and measurement row j's slack is |C|Δ_j plus the rounding of its b; the matrices' errors add
+        |ΔG| h and |ΔA| h (per unit of ‖ξ_F‖∞ on free factors).
+        """
+        d, m, n = self.delta_bar, self.system.m, self.n
+        i = k - d
+        nominal, inputs, b = self._nominal(ys, k, c_p)
         h = np.concatenate([h_p, self._h_noise])
         meas = slice(self.meas_row, self.meas_row + (d + 1) * m)
         # Every step's residual and every measurement row's rounding, in two extended-precision
@@ -188,6 +203,17 @@ class Window:
         charges = {"pad": pad if pad.any() else None, "slack": slack if slack.any() else None,
                    "pad_free": pad_free, "slack_free": slack_free}
         return nominal[-1], b, h, charges
+
+    def centred_prior(self, ys: np.ndarray, k: int) -> np.ndarray:
+        """A centre c_p for a prior that is the whole space (M = I, h_p = ∞): the least-squares fit of
+        the window's measurements (any c_p gives the same set; this one keeps the free factors small).
+        """
+        if self._prior_pinv is None:
+            raise ValueError("centred_prior needs a window built with M = I (a prior of all of R^n)")
+        zero = np.zeros(self.n)
+        b = self._nominal(ys, k, zero)[2]
+        c_p = self._prior_pinv @ b[self.meas_row:]
+        return c_p if np.all(np.isfinite(c_p)) else zero
 
     def estimate(self, ys: np.ndarray, k: int, c_p: np.ndarray, h_p: np.ndarray) -> ConstrainedZonotope:
         """F_{k,k−δ̄}(Z(M, c_p, [], [], h_p)) as an extended CZ sharing this window's G and A, with

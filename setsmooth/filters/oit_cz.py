@@ -60,10 +60,10 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
 
     if not detectable:
         window, engine = _kept(system, st, d, "observable", lambda: _observable_parts(system, d, n, eye2))
-        zero, free = np.zeros(n), np.full(n, np.inf)
+        free = np.full(n, np.inf)
         for k in range(d, T + 1):
             t0 = perf_counter()
-            c, b, h, charges = window.charged_data(ys, k, zero, free)
+            c, b, h, charges = window.charged_data(ys, k, window.centred_prior(ys, k), free)
             estimates.append(window.estimate_from(c, b, h, **charges))
             t1 = perf_counter()
             if want_hulls:

@@ -150,8 +150,9 @@ def test_a_window_of_exact_matrices_charges_only_the_steps_rounding():
 def test_certified_window_hulls_carry_the_charges():
     """ParametricSupport with the charges: above its value without them by at most the charges'
     effect, and every bound holds against the exact window's support at a feasible point (the truth).
-    (At states 1e6 with the observable window's zero nominal, the engine's certified values are up to
-    4e-3 above the CZ path's: its interior-point multipliers' reduced costs times β ~ 1e6.)"""
+    With the least-squares prior centre (`Window.centred_prior`) the engine's values agree with the CZ
+    path's to 1e-6 of the unit width; from c_p = 0 they were up to 4e-3 looser at states 1e6 (the
+    interior-point multipliers' reduced costs times a free-factor bound β ~ 1e6)."""
     rng = np.random.default_rng(7)
     n, m, d = 3, 2, 3
     system = _system(rng, n, m, 1e6)
@@ -161,7 +162,7 @@ def test_certified_window_hulls_carry_the_charges():
     D = np.vstack([np.eye(n), -np.eye(n)])
     engine = ParametricSupport(window.G, window.A, D, window.free(n))
     for k in range(d, 11):
-        c, b, h, charges = window.charged_data(ys, k, np.zeros(n), np.full(n, np.inf))
+        c, b, h, charges = window.charged_data(ys, k, window.centred_prior(ys, k), np.full(n, np.inf))
         plain = engine.values(c, b, h)
         charged = engine.values(c, b, h, **charges)
         assert np.all(charged >= plain)
@@ -169,3 +170,8 @@ def test_certified_window_hulls_carry_the_charges():
         assert np.all(D @ xs[k] <= charged)
         Z = window.estimate_from(c, b, h, **charges)
         assert np.all(D @ xs[k] <= Z.support_many(D, certified=True))
+        np.testing.assert_allclose(Z.support_many(D, certified=True), charged, rtol=0, atol=1e-6)
+        # the same set from any prior centre: support values agree with c_p = 0's
+        c0, b0, h0, ch0 = window.charged_data(ys, k, np.zeros(n), np.full(n, np.inf))
+        Z0 = window.estimate_from(c0, b0, h0, **ch0)
+        np.testing.assert_allclose(Z0.support_many(D), Z.support_many(D), rtol=0, atol=1e-6)
