@@ -109,6 +109,8 @@ VERTEX_FEASIBILITY_TOL = 1e-9
 #: direction is solved again by the simplex method. A tenth of the accuracy the estimators promise.
 SUPPORT_GAP_TOL = 1e-7
 
-#: Absolute floor of that check, relative to the magnitude |U| + |L| of the values: the rounding
-#: level of the certificate's own sums (some thousand ulps), below which no bound can go.
-SUPPORT_GAP_FLOOR = 2.0 ** -40
+#: Floor of that check relative to the magnitude |U| + |L| of the values, for the rounding of the
+#: solver's value L = dᵀc + (Gᵀd)ᵀξ (8 ulps); the certificate's own rounding allowance, which
+#: `certified_bound` reports, is added to it four times. (2⁻⁴⁰, the floor before, let a bracket of
+#: 3e-6 pass at states 1.9e6: 2e-6 of a unit-width hull.)
+SUPPORT_GAP_FLOOR = 2.0 ** -50

@@ -211,12 +211,14 @@ def certified_bound(d: np.ndarray, G, c: np.ndarray, A: sp.csc_matrix, b: np.nda
         set they enclose, |d|ᵀpad + |λ|ᵀslack + β(|d|ᵀpad_free + |λ|ᵀslack_free) more (β the free
         factors' bound; without one, free charges make the value uncertifiable).
     with_charge : bool
-        Also return the bound of the stored set alone (without the charges).
+        Also return the bound of the stored set alone (without the charges) and the part of it that
+        covers the certificate's own rounding (the floor of any bracket on the stored set).
 
     Returns
     -------
     ndarray, shape (k,)
-        (and the stored set's bound, shape (k,), with ``with_charge``)
+        (and the stored set's bound and its rounding allowance, shape (k,) each, with
+        ``with_charge``)
 
     Raises
     ------
@@ -300,7 +302,11 @@ def certified_bound(d: np.ndarray, G, c: np.ndarray, A: sp.csc_matrix, b: np.nda
         charged = bound + added
         charged = np.where(added > 0, np.nextafter(charged + 2.0 * _U * np.abs(charged), np.inf),
                            bound)
-    return (charged, bound) if with_charge else charged
+    if with_charge:
+        with np.errstate(invalid="ignore"):
+            own = np.where(np.isfinite(bound), bound - total, np.inf)
+        return charged, bound, own
+    return charged
 
 
 #: Free factors whose reduced costs are checked for exact cancellation, at most.

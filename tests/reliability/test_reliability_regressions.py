@@ -239,3 +239,13 @@ def test_a_prior_whose_vertices_defeat_qhull_is_still_sampled():
     to hit-and-run ('auto'), and the case is generated."""
     case = base_case(2026, 209)
     assert case.X0.contains(case.xs[0])
+
+
+def test_a_bracket_far_from_the_origin_is_held_to_the_certificates_own_rounding():
+    """Case 168 at offset 1e6 (rank-deficient C, CZ noises, n = 6, T = 15): the bracket check let an
+    interior-point answer whose certified bound sat 3e-6 above the optimum pass (states 1.9e6, hull
+    width 1.1: 2.1e-6 of it, filter and trajectory smoother at k = 14, 15), because its floor was
+    2⁻⁴⁰·|values| where the certificate's own rounding was 2.8e-9. The floor is now that rounding."""
+    case = in_regime(base_case(2026, 168), "offset1e+06")
+    result = compare_case(case, estimators=("filter",))
+    assert not result.failed, describe(result)

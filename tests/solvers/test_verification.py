@@ -72,7 +72,7 @@ def test_without_the_check_the_loose_solver_is_visibly_off(monkeypatch):
     # The premise of the test above: the loose settings do produce wrong values when unchecked.
     monkeypatch.setattr(clarabel_lp, "settings", loose_settings)
     monkeypatch.setattr(CZProgram, "_gap_tolerance",
-                        staticmethod(lambda D, lo, up: np.full(D.shape[0], np.inf)))
+                        staticmethod(lambda D, lo, up, rounding=None: np.full(D.shape[0], np.inf)))
     S = smoothed_sets("scale1")[3]
     lo_x, hi_x = exact_hull(S)
     plain = S.interval_hull(certified=False)
@@ -88,3 +88,6 @@ def test_the_gap_tolerance_is_relative_to_the_width_when_both_directions_are_ask
     magnitude = np.abs(lower) + np.abs(upper)
     np.testing.assert_allclose(t[:2], tol.SUPPORT_GAP_TOL * 2.0 + tol.SUPPORT_GAP_FLOOR * magnitude[:2])
     np.testing.assert_allclose(t[2], (tol.SUPPORT_GAP_TOL + tol.SUPPORT_GAP_FLOOR) * magnitude[2])
+    # the certificate's own rounding allowance is added four times
+    own = np.array([1e-9, 2e-9, 0.0])
+    np.testing.assert_allclose(CZProgram._gap_tolerance(D, lower, upper, own) - t, 4.0 * own)
