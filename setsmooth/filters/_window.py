@@ -71,19 +71,20 @@ class Window:
         powers, dpowers = [np.eye(n)], [None]
         for _ in range(d):
             powers.append(A @ powers[-1])
-            dpowers.append(_chain(A, None, powers[-2], dpowers[-1]))
+            dpowers.append(_chain(A, None, powers[-2], dpowers[-1], powers[-1]))
         CP = [C @ P for P in powers]
-        dCP = [_chain(C, None, P, dP) for P, dP in zip(powers, dpowers)]
+        dCP = [_chain(C, None, P, dP, CPj) for P, dP, CPj in zip(powers, dpowers, CP)]
         BG = B @ Gw
-        dBG = _chain(B, None, Gw, None)
+        dBG = _chain(B, None, Gw, None, BG)
         G = np.zeros((n, self.ng))
         dG = np.zeros((n, self.ng))
         G[:, :r] = powers[d] @ M
-        dG[:, :r] = _dense_or_zero(_chain(powers[d], dpowers[d], M, None), (n, r))
+        dG[:, :r] = _dense_or_zero(_chain(powers[d], dpowers[d], M, None, G[:, :r]), (n, r))
         for l in range(d):
             cols = slice(col_w + l * pw, col_w + (l + 1) * pw)
             G[:, cols] = powers[d - 1 - l] @ BG
-            dG[:, cols] = _dense_or_zero(_chain(powers[d - 1 - l], dpowers[d - 1 - l], BG, dBG), (n, pw))
+            dG[:, cols] = _dense_or_zero(_chain(powers[d - 1 - l], dpowers[d - 1 - l], BG, dBG, G[:, cols]),
+                                         (n, pw))
         Amat = np.zeros((nrows, self.ng))
         dA = np.zeros((nrows, self.ng))
         row = 0
@@ -95,15 +96,16 @@ class Window:
             row += ncv
         self.meas_row = row
         DGv = D @ Gv
-        dDGv = _dense_or_zero(_chain(D, None, Gv, None), (m, qv))
+        dDGv = _dense_or_zero(_chain(D, None, Gv, None, DGv), (m, qv))
         for j in range(d + 1):
             rows = slice(row, row + m)
             Amat[rows, :r] = CP[j] @ M
-            dA[rows, :r] = _dense_or_zero(_chain(CP[j], dCP[j], M, None), (m, r))
+            dA[rows, :r] = _dense_or_zero(_chain(CP[j], dCP[j], M, None, Amat[rows, :r]), (m, r))
             for l in range(j):
                 cols = slice(col_w + l * pw, col_w + (l + 1) * pw)
                 Amat[rows, cols] = CP[j - 1 - l] @ BG
-                dA[rows, cols] = _dense_or_zero(_chain(CP[j - 1 - l], dCP[j - 1 - l], BG, dBG), (m, pw))
+                dA[rows, cols] = _dense_or_zero(
+                    _chain(CP[j - 1 - l], dCP[j - 1 - l], BG, dBG, Amat[rows, cols]), (m, pw))
             Amat[rows, col_v + j * qv: col_v + (j + 1) * qv] = DGv
             dA[rows, col_v + j * qv: col_v + (j + 1) * qv] = dDGv
             row += m
@@ -245,9 +247,9 @@ class Window:
         return Z
 
 
-def _chain(X, dX, Y, dY) -> np.ndarray | None:
-    """The error bound of fl(X·Y) (`rounding.chained_product_error`), None when it is zero."""
-    err = rounding.chained_product_error(_dense(X), dX, _dense(Y), dY)
+def _chain(X, dX, Y, dY, stored: np.ndarray) -> np.ndarray | None:
+    """The error bound of ``stored`` = fl(X·Y) (`rounding.chained_product_error`), None when zero."""
+    err = rounding.chained_product_error(_dense(X), dX, _dense(Y), dY, product=stored)
     return err if err.any() else None
 
 

@@ -217,13 +217,14 @@ def row_sums_bound(X: np.ndarray, Y: np.ndarray) -> np.ndarray:
     return np.where(np.isfinite(out), out, plain)
 
 
-def _dense_products_exact(X: np.ndarray, Y: np.ndarray) -> np.ndarray:
+def _dense_products_exact(X: np.ndarray, Y: np.ndarray, P: np.ndarray | None = None) -> np.ndarray:
     """Elementwise: whether fl(X·Y) is the exact product, decided by error-free transformations.
 
     The dot products are re-evaluated term by term with TwoProduct and TwoSum: where no product and no
     partial sum rounds (and none is near underflow), that evaluation's value is the exact sum, and the
-    entry is exact iff the BLAS product equals it (another summation order may have rounded)."""
-    P = X @ Y
+    entry is exact iff the BLAS product (``P``, the caller's stored one when given) equals it
+    (another summation order may have rounded)."""
+    P = X @ Y if P is None else np.asarray(P, dtype=float)
     total = np.zeros(P.shape)
     clean = np.ones(P.shape, dtype=bool)
     for t in range(X.shape[1]):
@@ -236,14 +237,15 @@ def _dense_products_exact(X: np.ndarray, Y: np.ndarray) -> np.ndarray:
 
 
 def chained_product_error(X: np.ndarray, dX: np.ndarray | None, Y: np.ndarray,
-                          dY: np.ndarray | None) -> np.ndarray:
+                          dY: np.ndarray | None, product: np.ndarray | None = None) -> np.ndarray:
     """An elementwise bound on |fl(X·Y) − X*·Y*| for computed factors X, Y within dX, dY of exact
     ones X*, Y* (None: exact), dense: the rounding of this product plus what the factors carry,
     |X|·dY + dX·(|Y| + dY), each sum of k = X.shape[1] terms rounded up. For chains such as the
     matrix powers of a window, A^j = A·A^{j−1}. Entries computed exactly (`_dense_products_exact`)
-    are charged only what the factors carry."""
+    are charged only what the factors carry; ``product`` is the stored fl(X·Y) that exactness is
+    decided on (recomputed when not given)."""
     total = np.asarray(product_error(X, Y), dtype=float)
-    total = np.where(_dense_products_exact(X, Y), 0.0, total)
+    total = np.where(_dense_products_exact(X, Y, product), 0.0, total)
     if dY is not None:
         total = total + np.abs(X) @ dY
     if dX is not None:
