@@ -176,15 +176,16 @@ class Window:
         meas = slice(self.meas_row, self.meas_row + (d + 1) * m)
         # Every step's residual and every measurement row's rounding, in two extended-precision
         # products (one column per step).
-        X = np.array(nominal).T                                   # (n, d + 1)
-        B_meas = b[meas].reshape(d + 1, m).T                       # (m, d + 1)
+        X = np.array(nominal).T               # (n, d + 1)
+        B_meas = b[meas].reshape(d + 1, m).T  # (m, d + 1)
         b_error = rounding.extended_residual_bound(
-            [(np.ones(m), np.asarray(ys[i:k + 1], dtype=float).T), (-self._D, np.repeat(self._cv[:, None], d + 1, axis=1)),
+            [(np.ones(m), np.asarray(ys[i:k + 1], dtype=float).T),
+             (-self._D, np.repeat(self._cv[:, None], d + 1, axis=1)),
              (-self._C, X), (-np.ones(m), B_meas)])
         if d:
             step_error = rounding.extended_residual_bound(
-                [(self._sysA, X[:, :d]), (self._B, np.repeat(self._cw[:, None], d, axis=1)), (np.ones(n), np.array(inputs).T),
-                 (-np.ones(n), X[:, 1:])])
+                [(self._sysA, X[:, :d]), (self._B, np.repeat(self._cw[:, None], d, axis=1)),
+                 (np.ones(n), np.array(inputs).T), (-np.ones(n), X[:, 1:])])
         drift = np.zeros(n)
         meas_slack = np.empty((d + 1, m))
         for j in range(d + 1):
@@ -238,12 +239,9 @@ class Window:
         G and A are not copied: every window shares this object's private read-only arrays (the CZ
         constructor's defensive copy is for arrays a caller might still write to).
         """
-        Z = ConstrainedZonotope._trusted(self._G0, c, self._A0, b, h)
+        Z = ConstrainedZonotope._trusted(self._G0, c, self._A0, b, h, pad=pad, slack=slack,
+                                         pad_free=pad_free, slack_free=slack_free)
         Z.G, Z.A = self.G, self.A
-        if not (pad is None and slack is None and pad_free is None and slack_free is None):
-            Z = ConstrainedZonotope._trusted(self.G, c, self.A, b, h, pad=pad, slack=slack,
-                                             pad_free=pad_free, slack_free=slack_free)
-            Z.G, Z.A = self.G, self.A
         return Z
 
 
