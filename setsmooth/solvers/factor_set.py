@@ -335,11 +335,16 @@ class FactorConstraints:
         best: tuple[float, Maximized] | None = None  # the tightest verified reduced-accuracy answer
         rough: Maximized | None = None  # the last unverified one (for certificates only)
         bounded = None  # the recession program's verdict on g, computed at most once
-        for pre, refine in attempts:
-            if pre is None:
-                pre = self._fully_presolved_if_new(first) if refine is True else self.fully_presolved
-                if pre is None:
+        pre = first  # the last program actually solved (the relaxed last resort reuses it)
+        for planned, refine in attempts:
+            if planned is None:
+                # An attempt skipped as a repeat must not leave `pre` empty-handed (reliability
+                # case 018: the relaxed last resort was handed None after a skipped attempt).
+                planned = (self._fully_presolved_if_new(first) if refine is True
+                           else self.fully_presolved)
+                if planned is None:
                     continue
+            pre = planned
             if pre.empty:
                 self._empty = True
                 return Maximized("infeasible", nan_xi, nan_lam)
@@ -489,11 +494,13 @@ class FactorConstraints:
         if not first.dependent_checked:
             attempts.append((None, True))
         last = "Unknown"
-        for pre, refine in attempts:
-            if pre is None:
-                pre = self._fully_presolved_if_new(first) if refine is True else self.fully_presolved
-                if pre is None:
-                    continue
+        for planned, refine in attempts:
+            if planned is None:
+                planned = (self._fully_presolved_if_new(first) if refine is True
+                           else self.fully_presolved)
+                if planned is None:
+                    continue  # `pre`, `rows`, `r` stay those of the last program built
+            pre = planned
             if pre.empty:
                 return True
             m, p = pre.A.shape

@@ -1,0 +1,81 @@
+"""The last resorts of `FactorConstraints` when every planned solve is unsettled.
+
+On a program too large for the dense dependent-row check, the planned attempts end with "the fully
+presolved program, if it differs". When it does not differ that attempt is skipped, and the last
+resort (the relaxed program for a support, the simplex method for emptiness) must still get the
+program that was actually solved. Reliability case 018 (rank-deficient C, CZ noises, noise 1e-6 and
+1e3) reached the support's last resort with None there: ``AttributeError: 'NoneType' object has no
+attribute 'A'`` from a recursion smoother's hull.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from setsmooth.solvers import factor_set
+from setsmooth.solvers.factor_set import FactorConstraints
+
+
+def _strip(seed: int = 3, nc: int = 4, ng: int = 12) -> tuple[FactorConstraints, np.ndarray,
+                                                          np.ndarray]:
+    """A non-empty factor set with independent rows: {ξ : Aξ = Aξ₀, |ξ| ≤ 1}, ξ₀ inside."""
+    rng = np.random.default_rng(seed)
+    A = rng.standard_normal((nc, ng))
+    xi0 = rng.uniform(-0.5, 0.5, ng)
+    return FactorConstraints(A, A @ xi0, np.ones(ng)), A, xi0
+
+
+def _exact_max(A, b, g) -> float:
+    from scipy.optimize import linprog
+
+    res = linprog(-g, A_eq=A, b_eq=b, bounds=[(-1, 1)] * g.size, method="highs")
+    assert res.status == 0
+    return -res.fun
+
+
+def test_a_support_whose_every_solve_is_unsettled_is_relaxed_on_the_solved_program(monkeypatch):
+    monkeypatch.setattr(factor_set, "DENSE_PRESOLVE_MAX", 0)  # dependent rows not looked for
+    F, A, xi0 = _strip()
+    assert not F.presolved.dependent_checked
+    real = FactorConstraints._solve_on
+
+    def unsettled(self, pre, q, refine):
+        _, eta, z = real(self, pre, q, refine)
+        return "InsufficientProgress", eta, z
+
+    monkeypatch.setattr(FactorConstraints, "_solve_on", unsettled)
+    g = np.linspace(-1.0, 1.0, A.shape[1])
+    for escalate in (False, True):
+        answer = F.maximize(g, "test", escalate=escalate)
+        assert answer.status == "relaxed"
+        # an outer value: the set relaxed by the emptiness tolerance contains the exact one
+        assert g @ answer.xi >= _exact_max(A, A @ xi0, g) - 1e-7
+
+
+def test_emptiness_the_interior_point_method_cannot_settle_goes_to_the_simplex_method(monkeypatch):
+    monkeypatch.setattr(factor_set, "DENSE_PRESOLVE_MAX", 0)
+    F, A, xi0 = _strip(seed=5)
+    real_solver = factor_set.clarabel.DefaultSolver
+
+    class Stalled:
+        """A Clarabel solver whose every answer is 'InsufficientProgress'."""
+
+        def __init__(self, *args, **kwargs):
+            self._inner = real_solver(*args, **kwargs)
+
+        def update(self, **kwargs):
+            self._inner.update(**kwargs)
+
+        def solve(self):
+            sol = self._inner.solve()
+
+            class Stopped:
+                status = "SolverStatus.InsufficientProgress"
+                x, z = sol.x, sol.z
+
+            return Stopped()
+
+    monkeypatch.setattr(factor_set.clarabel, "DefaultSolver", Stalled)
+    assert not F.is_empty()
+    empty = FactorConstraints(A, A @ xi0 + np.array([40.0, 0, 0, 0]), np.ones(A.shape[1]))
+    assert empty.is_empty()
