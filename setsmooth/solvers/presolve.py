@@ -57,11 +57,44 @@ INDEPENDENT_RCOND = 1e-6
 #: own presolve handles dependent rows; the recursion smoother's CZs reach it at T ≈ 40.
 DEPENDENT_DENSE_MAX = 30_000_000
 
-#: HiGHS's tolerances for the simplex fallback, on the presolved program (unit rows, |η| ≤ 1). Its
-#: defaults (1e-7) left duality gaps of ~1e-7 of the objective's scale, which a certified bound
-#: built on the multipliers keeps: 1.1e-6 of w + σ on the recursion smoother's hulls of an
-#: unstable system at noise 1e-6 (reliability case 001).
-SIMPLEX_OPTIONS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
+#: HiGHS's feasibility tolerances for the simplex fallback, on the presolved program (unit rows,
+#: |η| ≤ 1), tried in turn (None: HiGHS's defaults, 1e-7). The defaults alone left duality gaps of
+#: ~1e-7 of the objective's scale, which a certified bound built on the multipliers keeps: 1.1e-6 of
+#: w + σ on the recursion smoother's hulls of an unstable system at noise 1e-6 (reliability case
+#: 001). But on the recursion smoother's degenerate, ill-conditioned sets (σ_min(Â) ≈ 6e-8) the
+#: tight tolerance alone cycles: 100,000 – 530,000 iterations, 3 – 22 s, often ending in
+#: 'numerical difficulties', where the defaults need ~250 iterations. Each rung is therefore
+#: capped (`_rung_iterations`); what it does not settle the next, looser one solves. Every answer
+#: is checked independently by the caller and certified bounds hold for any multipliers, so a
+#: looser rung costs tightness, never soundness.
+SIMPLEX_TOLERANCES = (1e-10, 1e-9, None)
+
+
+def _rung_iterations(size: int, last: bool) -> int:
+    """Iteration cap of a rung for a program of ``size`` = rows + columns: size + 200 for the tight
+    rungs (their successful solves need about size/2: reliability case 000 at T = 20, 196 fallback
+    programs), 20·size + 1000 for the last (a guard against cycling, never reached there)."""
+    return 20 * size + 1000 if last else size + 200
+
+
+def _highs_ladder(q: np.ndarray, size: int, **program):
+    """``scipy.optimize.linprog(q, method='highs', **program)`` through ``SIMPLEX_TOLERANCES``:
+    the first rung's result that is not an iteration limit (status 1) or a numerical failure
+    (status 4, or status 2 without 'infeasible' in the message: HiGHS refusing the data). An
+    infeasible or unbounded verdict ends the ladder: it is the caller's to judge, as before."""
+    from scipy.optimize import linprog
+
+    res = None
+    for rung, tolerance in enumerate(SIMPLEX_TOLERANCES):
+        options = {"maxiter": _rung_iterations(size, rung == len(SIMPLEX_TOLERANCES) - 1)}
+        if tolerance is not None:
+            options.update(primal_feasibility_tolerance=tolerance,
+                           dual_feasibility_tolerance=tolerance)
+        res = linprog(q, method="highs", options=options, **program)
+        refused = res.status == 2 and "infeasible" not in res.message.lower()
+        if res.status not in (1, 4) and not refused:
+            return res
+    return res
 
 
 @dataclass(frozen=True)
@@ -315,12 +348,10 @@ def _col_abs_max(M: sp.csc_matrix) -> np.ndarray:
 def simplex(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
     """min qᵀη over the presolved program by HiGHS (SciPy): (status name, η, λ̂ in Clarabel's sign
     convention q + Âᵀλ̂ = 0 on the free factors)."""
-    from scipy.optimize import linprog
-
     m, p = pre.A.shape
     bounds = np.where(pre.bounded[:, None], [[-1.0, 1.0]], [[-np.inf, np.inf]])
-    res = linprog(q, A_eq=pre.A if m else None, b_eq=pre.b if m else None, bounds=bounds,
-                  method="highs", options=SIMPLEX_OPTIONS)
+    res = _highs_ladder(q, m + p, A_eq=pre.A if m else None, b_eq=pre.b if m else None,
+                        bounds=bounds)
     names = {0: "AlmostSolved", 1: "MaxIterations", 2: "PrimalInfeasible", 3: "DualInfeasible"}
     name = names.get(res.status, "NumericalError")
     if res.status == 2 and "infeasible" not in res.message.lower():
@@ -336,11 +367,8 @@ def simplex_inequalities(q: np.ndarray, rows: sp.csc_matrix, r: np.ndarray
     """min qᵀx subject to rows·x ≤ r (x free) by HiGHS (SciPy), in Clarabel's convention for the
     multipliers (z ≥ 0, q + rowsᵀz = 0): ('optimal', x, z), or (HiGHS's status, NaNs, NaNs). The
     fallback of the always-feasible programs (phase one, the relaxed support program)."""
-    from scipy.optimize import linprog
-
     n, k = rows.shape[1], rows.shape[0]
-    res = linprog(q, A_ub=rows, b_ub=r, bounds=[(None, None)] * n, method="highs",
-                  options=SIMPLEX_OPTIONS)
+    res = _highs_ladder(q, n + k, A_ub=rows, b_ub=r, bounds=[(None, None)] * n)
     if res.status != 0:
         return f"status {res.status}", np.full(n, np.nan), np.full(k, np.nan)
     # HiGHS's marginals are ∂(min)/∂b_ub ≤ 0: q = −rowsᵀy, so z = −y.
@@ -350,11 +378,9 @@ def simplex_inequalities(q: np.ndarray, rows: sp.csc_matrix, r: np.ndarray
 def simplex_box_equalities(q: np.ndarray, A: sp.csc_matrix) -> tuple[str, np.ndarray]:
     """min qᵀη subject to Aη = 0, |η| ≤ 1 by HiGHS (SciPy): ('optimal', η) or (its status, NaNs).
     The fallback of the recession program (feasible at η = 0, bounded)."""
-    from scipy.optimize import linprog
-
     m, n = A.shape
-    res = linprog(q, A_eq=A if m else None, b_eq=np.zeros(m) if m else None, bounds=(-1.0, 1.0),
-                  method="highs", options=SIMPLEX_OPTIONS)
+    res = _highs_ladder(q, m + n, A_eq=A if m else None, b_eq=np.zeros(m) if m else None,
+                        bounds=(-1.0, 1.0))
     if res.status != 0:
         return f"status {res.status}", np.full(n, np.nan)
     return "optimal", np.asarray(res.x)

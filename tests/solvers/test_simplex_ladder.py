@@ -1,0 +1,62 @@
+"""The simplex fallback's tolerance ladder (`presolve.SIMPLEX_TOLERANCES`).
+
+``data/cycling_program.npz`` is one presolved support program of the recursion smoother (reliability
+case 000 at T = 20: 158 rows, 293 factors, σ_min(Â) ≈ 6e-8, degenerate). HiGHS at feasibility
+tolerances 1e-10 ran 529,246 iterations on it (20 s) and ended with 'numerical difficulties'; at
+its defaults it needs about 250. 196 such fallback solves were 82 % of that smoother's time.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import linprog
+
+from setsmooth.solvers import presolve as presolve_module
+from setsmooth.solvers.factor_set import FactorConstraints
+from setsmooth.solvers.presolve import Presolved, simplex
+
+DATA = Path(__file__).parent / "data" / "cycling_program.npz"
+
+
+def _cycling_program() -> tuple[Presolved, np.ndarray]:
+    z = np.load(DATA)
+    A = sp.csc_matrix((z["data"], z["indices"], z["indptr"]), shape=tuple(z["shape"]))
+    m, p = A.shape
+    pre = Presolved(A=A, b=z["b"], rows=np.arange(m), cols=np.arange(p), row_scale=np.ones(m),
+                    col_scale=np.ones(p), bounded=z["bounded"], empty=False,
+                    dependent_checked=True)
+    return pre, z["q"]
+
+
+def test_a_program_the_tight_tolerance_cycles_on_is_settled_by_a_looser_rung():
+    pre, q = _cycling_program()
+    name, eta, lam = simplex(pre, q)
+    assert name == "AlmostSolved"  # before: 'NumericalError' after 529,246 iterations
+    gap = FactorConstraints._checked_gap(pre, q, eta, lam)  # the caller's independent check
+    assert gap is not None and gap <= 1e-6
+    reference = linprog(q, A_eq=pre.A, b_eq=pre.b, bounds=[(-1, 1)] * q.size, method="highs")
+    assert abs(q @ eta - reference.fun) <= 1e-6 * (1 + abs(reference.fun))
+
+
+def test_each_rung_is_capped_and_the_first_settled_answer_is_kept(monkeypatch):
+    pre, q = _cycling_program()
+    seen = []
+    real = linprog
+
+    def recorded(*args, **kwargs):
+        res = real(*args, **kwargs)
+        seen.append((kwargs["options"].get("primal_feasibility_tolerance"),
+                     kwargs["options"]["maxiter"], res.status, res.nit))
+        return res
+
+    monkeypatch.setattr("scipy.optimize.linprog", recorded)
+    simplex(pre, q)
+    size = sum(pre.A.shape)
+    assert seen[0][:2] == (1e-10, size + 200)
+    assert all(status in (1, 4) for _, _, status, _ in seen[:-1])  # only failures move down
+    assert seen[-1][2] == 0
+    assert all(nit <= cap for _, cap, _, nit in seen)
+    assert len(seen) <= len(presolve_module.SIMPLEX_TOLERANCES)
