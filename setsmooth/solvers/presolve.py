@@ -69,6 +69,12 @@ DEPENDENT_DENSE_MAX = 30_000_000
 #: looser rung costs tightness, never soundness.
 SIMPLEX_TOLERANCES = (1e-10, 1e-9, None)
 
+#: The ladder of the programs whose optimal value decides something (the elastic phase-one program:
+#: empty iff its optimum exceeds ``EMPTINESS_TOL`` = 1e-8; the recession program: unbounded iff its
+#: gain exceeds ``REDUCED_COST_TOL``). A feasible point of them is not a proof, so they stop at
+#: 1e-9, an order below those thresholds, and never use HiGHS's defaults.
+DECISION_TOLERANCES = (1e-10, 1e-9)
+
 
 def _rung_iterations(size: int, last: bool) -> int:
     """Iteration cap of a rung for a program of ``size`` = rows + columns: size + 200 for the tight
@@ -77,16 +83,16 @@ def _rung_iterations(size: int, last: bool) -> int:
     return 20 * size + 1000 if last else size + 200
 
 
-def _highs_ladder(q: np.ndarray, size: int, **program):
-    """``scipy.optimize.linprog(q, method='highs', **program)`` through ``SIMPLEX_TOLERANCES``:
-    the first rung's result that is not an iteration limit (status 1) or a numerical failure
-    (status 4, or status 2 without 'infeasible' in the message: HiGHS refusing the data). An
-    infeasible or unbounded verdict ends the ladder: it is the caller's to judge, as before."""
+def _highs_ladder(q: np.ndarray, size: int, tolerances: tuple = SIMPLEX_TOLERANCES, **program):
+    """``scipy.optimize.linprog(q, method='highs', **program)`` through ``tolerances``: the first
+    rung's result that is not an iteration limit (status 1) or a numerical failure (status 4, or
+    status 2 without 'infeasible' in the message: HiGHS refusing the data). An infeasible or
+    unbounded verdict ends the ladder: it is the caller's to judge, as before."""
     from scipy.optimize import linprog
 
     res = None
-    for rung, tolerance in enumerate(SIMPLEX_TOLERANCES):
-        options = {"maxiter": _rung_iterations(size, rung == len(SIMPLEX_TOLERANCES) - 1)}
+    for rung, tolerance in enumerate(tolerances):
+        options = {"maxiter": _rung_iterations(size, rung == len(tolerances) - 1)}
         if tolerance is not None:
             options.update(primal_feasibility_tolerance=tolerance,
                            dual_feasibility_tolerance=tolerance)
@@ -368,7 +374,8 @@ def simplex_inequalities(q: np.ndarray, rows: sp.csc_matrix, r: np.ndarray
     multipliers (z ≥ 0, q + rowsᵀz = 0): ('optimal', x, z), or (HiGHS's status, NaNs, NaNs). The
     fallback of the always-feasible programs (phase one, the relaxed support program)."""
     n, k = rows.shape[1], rows.shape[0]
-    res = _highs_ladder(q, n + k, A_ub=rows, b_ub=r, bounds=[(None, None)] * n)
+    res = _highs_ladder(q, n + k, DECISION_TOLERANCES, A_ub=rows, b_ub=r,
+                        bounds=[(None, None)] * n)
     if res.status != 0:
         return f"status {res.status}", np.full(n, np.nan), np.full(k, np.nan)
     # HiGHS's marginals are ∂(min)/∂b_ub ≤ 0: q = −rowsᵀy, so z = −y.
@@ -379,8 +386,8 @@ def simplex_box_equalities(q: np.ndarray, A: sp.csc_matrix) -> tuple[str, np.nda
     """min qᵀη subject to Aη = 0, |η| ≤ 1 by HiGHS (SciPy): ('optimal', η) or (its status, NaNs).
     The fallback of the recession program (feasible at η = 0, bounded)."""
     m, n = A.shape
-    res = _highs_ladder(q, m + n, A_eq=A if m else None, b_eq=np.zeros(m) if m else None,
-                        bounds=(-1.0, 1.0))
+    res = _highs_ladder(q, m + n, DECISION_TOLERANCES, A_eq=A if m else None,
+                        b_eq=np.zeros(m) if m else None, bounds=(-1.0, 1.0))
     if res.status != 0:
         return f"status {res.status}", np.full(n, np.nan)
     return "optimal", np.asarray(res.x)

@@ -60,3 +60,29 @@ def test_each_rung_is_capped_and_the_first_settled_answer_is_kept(monkeypatch):
     assert seen[-1][2] == 0
     assert all(nit <= cap for _, cap, _, nit in seen)
     assert len(seen) <= len(presolve_module.SIMPLEX_TOLERANCES)
+
+
+def test_programs_whose_value_decides_never_go_below_1e_9(monkeypatch):
+    """Phase one (empty iff its optimum exceeds 1e-8) and the recession program: a rung at HiGHS's
+    defaults (1e-7) could call a non-empty set empty, so their ladder stops at 1e-9."""
+    from types import SimpleNamespace
+
+    from setsmooth.solvers.presolve import simplex_box_equalities, simplex_inequalities
+
+    seen = []
+
+    def failing(q, **kwargs):
+        seen.append(kwargs["options"].get("primal_feasibility_tolerance"))
+        return SimpleNamespace(status=4, message="numerical difficulties", nit=0)
+
+    monkeypatch.setattr("scipy.optimize.linprog", failing)
+    rows = sp.csc_matrix(np.vstack([np.eye(2), -np.eye(2)]))
+    assert simplex_inequalities(np.ones(2), rows, np.ones(4))[0] == "status 4"
+    assert seen == [1e-10, 1e-9]
+    seen.clear()
+    assert simplex_box_equalities(np.ones(2), sp.csc_matrix(np.ones((1, 2))))[0] == "status 4"
+    assert seen == [1e-10, 1e-9]
+    seen.clear()
+    pre, q = _cycling_program()
+    assert simplex(pre, q)[0] == "NumericalError"
+    assert seen == [1e-10, 1e-9, None]
