@@ -79,3 +79,38 @@ def test_emptiness_the_interior_point_method_cannot_settle_goes_to_the_simplex_m
     assert not F.is_empty()
     empty = FactorConstraints(A, A @ xi0 + np.array([40.0, 0, 0, 0]), np.ones(A.shape[1]))
     assert empty.is_empty()
+
+
+def test_a_rough_bracketed_answer_goes_to_the_simplex_method_without_the_dense_presolve(
+        monkeypatch):
+    """The bracketed path (`CZProgram` support directions) on a program too large for the dense
+    dependent-row check: a rough interior-point answer goes to the simplex method on the kept
+    program. Building the fully presolved program first (a dense rank-revealing QR per set) was
+    72 % of the recursion smoother's time on reliability case 029 (CZ noises, T = 16)."""
+    from setsmooth.solvers import presolve as presolve_module
+
+    monkeypatch.setattr(factor_set, "DENSE_PRESOLVE_MAX", 0)
+    F, A, xi0 = _strip(seed=7)
+    assert not F.presolved.dependent_checked
+    real = FactorConstraints._solve_on
+    solves, factorizations = [], []
+
+    def rough_interior_point(self, pre, q, refine):
+        name, eta, z = real(self, pre, q, refine)
+        solves.append((pre is F.presolved, refine))
+        if refine is False:  # stalled with duals off by 1e-3: fails the independent check
+            return "AlmostSolved", eta, z + 1e-3
+        return name, eta, z
+
+    real_rows = presolve_module.independent_rows
+    monkeypatch.setattr(presolve_module, "independent_rows",
+                        lambda *args, **kwargs: factorizations.append(1) or real_rows(*args,
+                                                                                    **kwargs))
+    monkeypatch.setattr(presolve_module, "INDEPENDENT_RCOND", 2.0)  # never "certainly independent"
+    monkeypatch.setattr(FactorConstraints, "_solve_on", rough_interior_point)
+    g = np.linspace(-1.0, 1.0, A.shape[1])
+    answer = F.maximize(g, "test", bracketed=True)
+    assert answer.status == "optimal"
+    assert abs(g @ answer.xi - _exact_max(A, A @ xi0, g)) <= 1e-7
+    assert solves[:2] == [(True, False), (True, "simplex")]
+    assert not factorizations  # before: the fully presolved program was built first
