@@ -8,9 +8,10 @@
 
 On a shared machine: ``--start`` splits the systems over several invocations (their counts add up),
 ``--time-limit`` stops starting tasks after that long and reports the systems that finished.
-``--log FILE`` appends one JSON line per finished case as it finishes (a run that is killed keeps
-what it measured); the failing cases are also listed by name after the tables. ``--from-log FILE``
-prints the system tables of such logs (several files add up) without running anything.
+``--log FILE`` appends one JSON line per finished case, rescaled set and witness check as it
+finishes (a run that is killed keeps what it measured); the failing cases are also listed by name
+after the tables. ``--from-log FILE`` prints the tables of such logs (several files add up) without
+running anything. ``--estimators none`` runs only the rescalings and the witness check.
 
 * N seeded random systems (`tests/reliability/random_systems.py`: five kinds, n = 2..6, p, m = 1..3,
   box and CZ noises, T = 10..40), each in the four regimes (noise scale 1, 1e-6, 1e3; state offset
@@ -67,6 +68,20 @@ def system_task(seed: int, index: int, with_witness: bool, T_range: tuple[int, i
         except OracleError as exc:
             w = ("oracle", base.name, str(exc))
     return results, w
+
+
+def witness_task(seed: int, index: int, T_range: tuple[int, int], n_range: tuple[int, int]):
+    """The witness check of system ``index`` alone (``--estimators none``)."""
+    base = base_case(seed, index, T_range=T_range, n_range=n_range)
+    try:
+        return witness.witness_check(base)
+    except OracleError as exc:
+        return ("oracle", base.name, str(exc))
+
+
+def _log_witness(log, w) -> None:
+    _log_line(log, {"witness": dataclasses.asdict(w) if not isinstance(w, tuple) else
+                    {"name": w[1], "message": w[2]}})
 
 
 def rescale_task(seed: int, count: int, i: int):
@@ -191,8 +206,8 @@ def read_log(paths: list[Path]) -> tuple[list[compare.CaseResult], list[tuple]]:
     for path in paths:
         for line in path.read_text().splitlines():
             record = json.loads(line)
-            if "crashed" in record:
-                continue  # `crashed_in_logs`
+            if "crashed" in record or "rescaled" in record or "witness" in record:
+                continue  # `crashed_in_logs`, `checks_in_logs`
             if "oracle_failed" in record:
                 failed[record["oracle_failed"]] = ("oracle", record["oracle_failed"], record["message"])
                 continue
@@ -219,6 +234,22 @@ def print_system_tables(case_results: list[compare.CaseResult], oracle_failed: l
         for _, name, msg in oracle_failed[:20]:
             print(f"  {name}: {msg}")
         print()
+
+
+def checks_in_logs(paths: list[Path]) -> tuple[list[rescaling.RescaleOutcome], list]:
+    """The rescaling and witness outcomes of ``--log`` files (later lines win for a repeat)."""
+    rescaled, witnesses = {}, {}
+    for path in paths:
+        for line in path.read_text().splitlines():
+            record = json.loads(line)
+            if "rescaled" in record:
+                o = rescaling.RescaleOutcome(**record["rescaled"])
+                rescaled[(o.name, o.how, o.path)] = o
+            elif "witness" in record:
+                w = record["witness"]
+                witnesses[w["name"]] = witness.WitnessOutcome(**w) if "checked" in w else (
+                    "oracle", w["name"], w["message"])
+    return list(rescaled.values()), list(witnesses.values())
 
 
 def _log_line(log, record: dict) -> None:
@@ -303,6 +334,13 @@ def main(argv=None) -> None:
         print(f"## setsmooth reliability from {', '.join(map(str, args.from_log))}: {systems} systems, "
               f"{len(case_results)} cases\n")
         print_system_tables(case_results, oracle_failed)
+        rescaled, witnesses = checks_in_logs(args.from_log)
+        if rescaled:
+            print(rescale_table(rescaled))
+            print()
+        if witnesses:
+            print(witness_table(witnesses))
+            print()
         print_crashed(crashed_in_logs(args.from_log))
         return
     if args.indices is not None:
@@ -315,9 +353,12 @@ def main(argv=None) -> None:
     else:
         indices = list(range(args.start, args.start + args.systems))
     estimators = tuple(e.strip() for e in args.estimators.split(",") if e.strip())
+    if estimators == ("none",):
+        estimators = ()  # only the rescalings and the witness check
     unknown = [e for e in estimators if e not in compare.ESTIMATORS]
-    if unknown or not estimators:
-        ap.error(f"--estimators must name some of {', '.join(compare.ESTIMATORS)}, got {args.estimators!r}")
+    if unknown or not (estimators or args.estimators.strip() == "none"):
+        ap.error(f"--estimators must name some of {', '.join(compare.ESTIMATORS)} (or be 'none'), "
+                 f"got {args.estimators!r}")
 
     t0 = time.perf_counter()
     case_results, oracle_failed, witnesses, rescaled, long_runs = [], [], [], [], []
@@ -330,8 +371,12 @@ def main(argv=None) -> None:
         for i in range(args.rescaled):
             futures[pool.submit(rescale_task, args.seed, args.rescaled, i)] = "rescale"
         for i in indices:
-            futures[pool.submit(system_task, args.seed, i, i < args.witness, tuple(args.T_range),
-                                tuple(args.n_range), estimators)] = "system"
+            if estimators:
+                futures[pool.submit(system_task, args.seed, i, i < args.witness,
+                                    tuple(args.T_range), tuple(args.n_range), estimators)] = "system"
+            elif i < args.witness:
+                futures[pool.submit(witness_task, args.seed, i, tuple(args.T_range),
+                                    tuple(args.n_range))] = "witness"
         for s in range(args.long_horizon):
             futures[pool.submit(long_horizon_task, s, args.horizon)] = "long"
         stopped = False
@@ -361,15 +406,21 @@ def main(argv=None) -> None:
                                "outcomes": [dataclasses.asdict(o) for o in r.outcomes]})
                 if w is not None:
                     witnesses.append(w)
+                    _log_witness(log, w)
+            elif kind == "witness":
+                witnesses.append(out)
+                _log_witness(log, out)
             elif kind == "rescale":
                 rescaled.extend(out)
+                for o in out:
+                    _log_line(log, {"rescaled": dataclasses.asdict(o)})
             else:
                 (oracle_failed if isinstance(out, tuple) else long_runs).append(out)
     elapsed = time.perf_counter() - t0
     if log is not None:
         log.close()
 
-    if systems_done < len(indices):
+    if estimators and systems_done < len(indices) and args.time_limit is not None:
         print(f"\nTime limit of {args.time_limit:.0f} s reached: {systems_done} of {len(indices)} "
               "systems finished; the tables count those.")
     first = f" from index {args.start}" if args.start else ""
