@@ -58,8 +58,9 @@ def test_a_stalled_membership_program_is_settled_by_the_simplex_method(monkeypat
 
 def _no_simplex_fallback(monkeypatch):
     """Make every simplex fallback fail, as on data no solver settles."""
-    monkeypatch.setattr(solvers.factor_set, "simplex", lambda pre, q: (
-        "MaxIterations", np.full(pre.A.shape[1], np.nan), np.full(pre.A.shape[0], np.nan)))
+    for name in ("simplex", "simplex_cold"):
+        monkeypatch.setattr(solvers.factor_set, name, lambda pre, q: (
+            "MaxIterations", np.full(pre.A.shape[1], np.nan), np.full(pre.A.shape[0], np.nan)))
     monkeypatch.setattr(solvers.factor_set, "simplex_inequalities", lambda q, rows, r: (
         "MaxIterations", np.full(rows.shape[1], np.nan), np.full(rows.shape[0], np.nan)))
     monkeypatch.setattr(solvers.factor_set, "simplex_box_equalities", lambda q, A: (

@@ -11,23 +11,23 @@ queried from several threads and pickled.
 Status policy (`maximize`): 'Solved' is taken; any other status is settled by a verified fallback
 before anything is raised: a fresh solve with iterative refinement, then, if the presolve had not looked
 for dependent rows, the fully presolved program (when it dropped some), and last HiGHS's simplex
-method (SciPy) on it. A reduced-accuracy answer ('AlmostSolved', and every simplex answer) is used
-only after an independent check in the presolved units: the primal point's residual and bound
-overshoot and its gap to the always-valid weak-duality bound, within ``SOLVER_CHECK_TOL`` of the
-scale; one with a gap above
-``ACCURATE_GAP_TOL`` is kept while the later fallbacks look for a tighter one (a caller that brackets
-the answer itself, ``bracketed``, skips the refined re-solve). Infeasible statuses are
-settled by the emptiness verdict below; unbounded ones, and solutions whose multipliers do not cancel
-the objective on free factors, by a recession program.
+method on it (warm-started across objectives, `presolve.simplex`). A reduced-accuracy answer
+('AlmostSolved', and every simplex answer) is used only after an independent check in the presolved
+units: the primal point's residual and bound overshoot and its gap to the always-valid weak-duality
+bound, within ``SOLVER_CHECK_TOL`` of the scale; one with a gap above ``ACCURATE_GAP_TOL`` is kept
+while the later fallbacks look for a tighter one (a caller that brackets the answer itself,
+``bracketed``, skips the refined re-solve). Infeasible statuses are settled by the emptiness verdict
+below; unbounded ones, and solutions whose multipliers do not cancel the objective on free factors,
+by a recession program.
 
 Emptiness (`is_empty`): a feasibility solve on the kept instance whose point satisfies the rows to
 ``EMPTINESS_TOL`` proves non-emptiness (the common case, at the cost of one re-solve); anything else
-is decided by an elastic phase-one program, min{t : |Âη − b̂| ≤ t, |η_B| ≤ 1},
-which is feasible and bounded whatever the data, so an interior-point method settles it even on flat
-or nearly empty sets; the set is empty iff t* > ``EMPTINESS_TOL`` in the equilibrated units (every
-presolved row has unit ∞-norm and every bounded factor unit bound). A support LP that reports
-infeasibility on a set this program calls non-empty is solved on the set relaxed by t*
-(``|Âη − b̂| ≤ t* + EMPTINESS_TOL``), an outer value, so the two verdicts never contradict each other.
+is decided by an elastic phase-one program, min{t : |Âη − b̂| ≤ t, |η_B| ≤ 1}, which is feasible and
+bounded whatever the data, so an interior-point method settles it even on flat or nearly empty sets;
+the set is empty iff t* > ``EMPTINESS_TOL`` in the equilibrated units (every presolved row has unit
+∞-norm and every bounded factor unit bound). A support LP that reports infeasibility on a set this
+program calls non-empty is solved on the set relaxed by t* (``|Âη − b̂| ≤ t* + EMPTINESS_TOL``), an
+outer value, so the two verdicts never contradict each other.
 """
 
 from __future__ import annotations
@@ -43,7 +43,7 @@ from . import clarabel_lp
 from .clarabel_lp import SolverError, _csc, _index_type, _zero_cost, solve_lp
 from .instances import cached_instance
 from .presolve import (Presolved, presolve, project_free, simplex, simplex_box_equalities,
-                       simplex_inequalities)
+                       simplex_cold, simplex_inequalities)
 
 __all__ = ["FactorConstraints", "Maximized", "STACK_MAX_VARIABLES", "DENSE_PRESOLVE_MAX"]
 
@@ -254,12 +254,15 @@ class FactorConstraints:
         """Minimize qᵀη over the presolved program: (status name, η, ẑ of the rows).
 
         ``refine``: False on the kept instance, True on a fresh one with iterative refinement,
-        'simplex' by HiGHS's simplex (SciPy), the last resort on LPs where the interior-point
-        method stops at reduced accuracy; its optimum is reported as 'AlmostSolved' so that it goes
-        through the same independent check as any answer not certified by Clarabel.
+        'simplex' by HiGHS's simplex (`presolve.simplex`, warm-started; 'cold simplex':
+        `presolve.simplex_cold`), the last resort on LPs where the interior-point method stops at
+        reduced accuracy; its optimum is reported as 'AlmostSolved'
+        so that it goes through the same independent check as any answer not certified by Clarabel.
         """
         if refine == "simplex":
             return simplex(pre, q)
+        if refine == "cold simplex":
+            return simplex_cold(pre, q)
         if refine:  # a fresh instance: the fallback must not inherit the kept one's state
             M, rhs, cones = self._program(pre)
             solver = clarabel.DefaultSolver(_zero_cost(q.size), q, M, rhs, cones,
@@ -295,9 +298,9 @@ class FactorConstraints:
             leave more than ``CERTIFICATE_LEAK_TOL`` of the objective on them is solved again with
             iterative refinement (the least-squares correction of a loose λ loosens the bound).
         escalate : bool
-            Skip the kept instance and start with HiGHS's simplex method, then a fresh instance
-            with iterative refinement: for a program whose first answer failed the caller's
-            a-posteriori check (`CZProgram`: certified bound against primal value).
+            Skip the kept instance and start with a cold solve by HiGHS's simplex method, then a
+            fresh instance with iterative refinement: for a program whose first answer failed the
+            caller's a-posteriori check (`CZProgram`: certified bound against primal value).
         bracketed : bool
             The caller brackets the answer by a rigorous bound and escalates it when the bracket is
             loose (`CZProgram._verified`): a rough interior-point answer goes straight to the
@@ -322,7 +325,12 @@ class FactorConstraints:
         if escalate:
             # The simplex method first: a vertex and exact-to-rounding multipliers, where the
             # interior-point method stopped with a loose dual (badly scaled free factors).
-            attempts = [(first, "simplex"), (first, True)]
+            # A cold solve (HiGHS's presolve and scaling from scratch), not the warm model that
+            # may have given the first answer: warm-started from another objective's basis, its
+            # optima are verified but can be ~1e-9 of the objective's scale from the cold ones,
+            # which at states 3500 σ from the origin is 4e-5 of a hull's width (reliability case
+            # 150, k = 6).
+            attempts = [(first, "cold simplex"), (first, True)]
         elif bracketed:
             # HiGHS's own presolve drops dependent rows, so the simplex method runs on the kept
             # program; the fully presolved one is built only if it fails. Built first (as the

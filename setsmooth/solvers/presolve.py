@@ -39,8 +39,8 @@ import scipy.sparse as sp
 from .. import tolerances as tol
 from ..linalg import independent_rows
 
-__all__ = ["Presolved", "presolve", "simplex", "simplex_inequalities", "simplex_box_equalities",
-           "project_free", "RUIZ_SWEEPS", "INDEPENDENT_RCOND"]
+__all__ = ["Presolved", "presolve", "simplex", "simplex_cold", "simplex_inequalities",
+           "simplex_box_equalities", "project_free", "RUIZ_SWEEPS", "INDEPENDENT_RCOND"]
 
 #: Equilibration sweeps with free factors (each scales the free columns, then the rows holding only
 #: free factors, to unit ∞-norm); without free factors one row normalization is exact.
@@ -352,8 +352,24 @@ def _col_abs_max(M: sp.csc_matrix) -> np.ndarray:
 
 
 def simplex(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
-    """min qᵀη over the presolved program by HiGHS (SciPy): (status name, η, λ̂ in Clarabel's sign
-    convention q + Âᵀλ̂ = 0 on the free factors)."""
+    """min qᵀη over the presolved program by HiGHS's simplex method: (status name, η, λ̂ in
+    Clarabel's sign convention q + Âᵀλ̂ = 0 on the free factors).
+
+    One HiGHS model per presolved program and thread, warm-started from the last objective's basis
+    (`warm_simplex.WarmSimplex`), through the ladder ``SIMPLEX_TOLERANCES``; `simplex_cold` is the
+    same ladder by SciPy's ``linprog`` from scratch, the reference it is tested against."""
+    from .instances import cached_instance
+    from .warm_simplex import WarmSimplex
+
+    size = sum(pre.A.shape)
+    model = cached_instance(pre, "warm simplex", lambda: WarmSimplex(pre.A, pre.b, pre.bounded))
+    caps = tuple(_rung_iterations(size, rung == len(SIMPLEX_TOLERANCES) - 1)
+                 for rung in range(len(SIMPLEX_TOLERANCES)))
+    return model.minimize(q, SIMPLEX_TOLERANCES, caps)
+
+
+def simplex_cold(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
+    """`simplex` by SciPy's ``linprog``, every objective from scratch (the reference)."""
     m, p = pre.A.shape
     bounds = np.where(pre.bounded[:, None], [[-1.0, 1.0]], [[-np.inf, np.inf]])
     res = _highs_ladder(q, m + p, A_eq=pre.A if m else None, b_eq=pre.b if m else None,
