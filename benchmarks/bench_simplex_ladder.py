@@ -74,8 +74,13 @@ def hulls(case) -> np.ndarray:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--configs", default="tight,cold,warm",
+                    help="comma-separated subset of tight, cold, warm (warm is required)")
     args = ap.parse_args()
-    configs = ("tight", "cold", "warm")
+    configs = tuple(c.strip() for c in args.configs.split(",") if c.strip())
+    if "warm" not in configs or not set(configs) <= {"tight", "cold", "warm"}:
+        ap.error("--configs must be a subset of tight,cold,warm including warm, "
+                 f"got {args.configs!r}")
     print(f"{'case':<40} {'tight s':>8} {'cold s':>8} {'warm s':>8} {'cold/tight':>10} "
           f"{'warm/tight':>10} {'warm/cold':>9}  {'fallback calls t/c/w':<20} {'max diff':>9}")
     ratios = collections.defaultdict(list)
@@ -96,13 +101,15 @@ def main() -> None:
         diff = max(float(np.max(np.abs(result["warm"] - result[c]) / unit)) for c in configs)
         t = {c: float(np.median(times[c])) for c in configs}
         for a, b in (("cold", "tight"), ("warm", "tight"), ("warm", "cold")):
-            ratios[a, b].append(t[a] / t[b])
-        counts = "/".join(str(calls[c] // args.repeats) for c in configs)
-        print(f"{case.name + f' T={T}':<40} {t['tight']:8.2f} {t['cold']:8.2f} {t['warm']:8.2f} "
+            ratios[a, b].append(t[a] / t[b] if a in t and b in t else float("nan"))
+        counts = "/".join(str(calls[c] // args.repeats) if c in t else "-" for c in
+                          ("tight", "cold", "warm"))
+        seconds = " ".join(f"{t.get(c, float('nan')):8.2f}" for c in ("tight", "cold", "warm"))
+        print(f"{case.name + f' T={T}':<40} {seconds} "
               f"{ratios['cold', 'tight'][-1]:10.3f} {ratios['warm', 'tight'][-1]:10.3f} "
               f"{ratios['warm', 'cold'][-1]:9.3f}  {counts:<20} {diff:9.1e}")
-    print("\nmedian ratios: "
-          + ", ".join(f"{a}/{b} {np.median(v):.3f}" for (a, b), v in ratios.items()))
+    print("\nmedian ratios: " + ", ".join(f"{a}/{b} {np.median(v):.3f}"
+                                         for (a, b), v in ratios.items() if np.isfinite(v).all()))
 
 
 if __name__ == "__main__":
