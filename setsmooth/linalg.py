@@ -42,7 +42,8 @@ def independent_rows(A, b: np.ndarray, rtol: float = tol.RANK_TOL) -> RowBasis:
     Rows are normalized to unit 2-norm first (with b scaled alike), so the verdict does not depend on
     how each equation is scaled; only an exactly zero row is a zero row, and it is consistent when its
     b_i is within ``sqrt(rtol)`` of zero relative to the normalized right-hand sides. The basis is
-    chosen by a QR factorization of Aᵀ with column pivoting (rank-revealing); a row whose pivot falls below ``rtol · max(shape) · largest pivot`` is dependent.
+    chosen by a QR factorization of Aᵀ with column pivoting (rank-revealing); a row whose pivot falls
+    below ``rtol · max(shape) · largest pivot`` is dependent.
     A dependent row is consistent when its right-hand side equals, to ``rtol`` relative to the kept
     right-hand sides it combines, the combination of the kept rows that reproduces it.
 
