@@ -61,22 +61,20 @@ def system_task(seed: int, index: int, with_witness: bool, T_range: tuple[int, i
             results.append(compare.compare_case(case, estimators=estimators))
         except OracleError as exc:
             results.append(("oracle", case.name, str(exc)))
-    w = None
-    if with_witness:
-        try:
-            w = witness.witness_check(base)
-        except OracleError as exc:
-            w = ("oracle", base.name, str(exc))
-    return results, w
+    return results, (_witness_outcome(base) if with_witness else None)
 
 
-def witness_task(seed: int, index: int, T_range: tuple[int, int], n_range: tuple[int, int]):
-    """The witness check of system ``index`` alone (``--estimators none``)."""
-    base = base_case(seed, index, T_range=T_range, n_range=n_range)
+def _witness_outcome(base):
+    """`witness.witness_check` of ``base``, or ('oracle', name, message) when the oracle fails."""
     try:
         return witness.witness_check(base)
     except OracleError as exc:
         return ("oracle", base.name, str(exc))
+
+
+def witness_task(seed: int, index: int, T_range: tuple[int, int], n_range: tuple[int, int]):
+    """The witness check of system ``index`` alone (``--estimators none``)."""
+    return _witness_outcome(base_case(seed, index, T_range=T_range, n_range=n_range))
 
 
 def _log_witness(log, w) -> None:

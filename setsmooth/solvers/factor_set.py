@@ -256,8 +256,8 @@ class FactorConstraints:
         ``refine``: False on the kept instance, True on a fresh one with iterative refinement,
         'simplex' by HiGHS's simplex (`presolve.simplex`, warm-started; 'cold simplex':
         `presolve.simplex_cold`), the last resort on LPs where the interior-point method stops at
-        reduced accuracy; its optimum is reported as 'AlmostSolved'
-        so that it goes through the same independent check as any answer not certified by Clarabel.
+        reduced accuracy; its optimum is reported as 'AlmostSolved' so that it goes through the
+        same independent check as any answer not certified by Clarabel.
         """
         if refine == "simplex":
             return simplex(pre, q)

@@ -83,6 +83,16 @@ def _rung_iterations(size: int, last: bool) -> int:
     return 20 * size + 1000 if last else size + 200
 
 
+def _rung_caps(size: int, rungs: int) -> list[int]:
+    """The iteration caps of a ladder of ``rungs`` rungs (`_rung_iterations`)."""
+    return [_rung_iterations(size, rung == rungs - 1) for rung in range(rungs)]
+
+
+def _refused(res) -> bool:
+    """SciPy's status 2 also carries HiGHS's refusal of the data, told apart by its message."""
+    return res.status == 2 and "infeasible" not in res.message.lower()
+
+
 def _highs_ladder(q: np.ndarray, size: int, tolerances: tuple = SIMPLEX_TOLERANCES, **program):
     """``scipy.optimize.linprog(q, method='highs', **program)`` through ``tolerances``: the first
     rung's result that is not an iteration limit (status 1) or a numerical failure (status 4, or
@@ -91,14 +101,13 @@ def _highs_ladder(q: np.ndarray, size: int, tolerances: tuple = SIMPLEX_TOLERANC
     from scipy.optimize import linprog
 
     res = None
-    for rung, tolerance in enumerate(tolerances):
-        options = {"maxiter": _rung_iterations(size, rung == len(tolerances) - 1)}
+    for tolerance, cap in zip(tolerances, _rung_caps(size, len(tolerances))):
+        options = {"maxiter": cap}
         if tolerance is not None:
             options.update(primal_feasibility_tolerance=tolerance,
                            dual_feasibility_tolerance=tolerance)
         res = linprog(q, method="highs", options=options, **program)
-        refused = res.status == 2 and "infeasible" not in res.message.lower()
-        if res.status not in (1, 4) and not refused:
+        if res.status not in (1, 4) and not _refused(res):
             return res
     return res
 
@@ -361,11 +370,9 @@ def simplex(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]
     from .instances import cached_instance
     from .warm_simplex import WarmSimplex
 
-    size = sum(pre.A.shape)
     model = cached_instance(pre, "warm simplex", lambda: WarmSimplex(pre.A, pre.b, pre.bounded))
-    caps = tuple(_rung_iterations(size, rung == len(SIMPLEX_TOLERANCES) - 1)
-                 for rung in range(len(SIMPLEX_TOLERANCES)))
-    return model.minimize(q, SIMPLEX_TOLERANCES, caps)
+    return model.minimize(q, SIMPLEX_TOLERANCES,
+                          _rung_caps(sum(pre.A.shape), len(SIMPLEX_TOLERANCES)))
 
 
 def simplex_cold(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
@@ -375,9 +382,7 @@ def simplex_cold(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.nda
     res = _highs_ladder(q, m + p, A_eq=pre.A if m else None, b_eq=pre.b if m else None,
                         bounds=bounds)
     names = {0: "AlmostSolved", 1: "MaxIterations", 2: "PrimalInfeasible", 3: "DualInfeasible"}
-    name = names.get(res.status, "NumericalError")
-    if res.status == 2 and "infeasible" not in res.message.lower():
-        name = "NumericalError"  # SciPy's status 2 also carries HiGHS's refusal of the data
+    name = "NumericalError" if _refused(res) else names.get(res.status, "NumericalError")
     if res.status != 0:
         return name, np.full(p, np.nan), np.full(m, np.nan)
     # HiGHS's marginals are ∂(min)/∂b_eq, i.e. q = Âᵀy + (bound duals): λ̂ = −y.

@@ -95,7 +95,7 @@ class WarmSimplex:
         self._h = h
         self._columns = np.arange(p, dtype=np.int32)
 
-    def minimize(self, q: np.ndarray, tolerances: tuple, caps: tuple
+    def minimize(self, q: np.ndarray, tolerances: tuple, caps: list[int]
                  ) -> tuple[str, np.ndarray, np.ndarray]:
         """(status name, η, λ̂) through the rungs (``tolerances[i]``: HiGHS's primal and dual
         feasibility tolerance, None for its defaults; ``caps[i]``: the rung's iteration cap).
