@@ -10,6 +10,7 @@ with A_k = Φ_k, B_k = Γ_k, C_k = Ξ_k, D_k = Ψ_k, and an optional known input
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable
 from typing import Any
 
@@ -183,6 +184,15 @@ class LinearSystem:
         state = self.__dict__.copy()
         state["_images"] = {}
         return state
+
+    def _with_noises(self, W: ConvexSet, V: ConvexSet) -> "LinearSystem":
+        """The same matrices with noise ranges W, V (trusted: of this system's p and q) and no input.
+
+        The deviation form about a nominal trajectory (`setsmooth.nominal_deviations`).
+        """
+        other = copy.copy(self)
+        other.W, other.V, other._u, other._images = W, V, None, {}
+        return other
 
     @property
     def is_time_invariant(self) -> bool:

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from .._validation import as_measurements, as_vector
+from ..nominal_deviations import RecursionDeviations, about_nominal
 from ..results import SetEstimates
 from ..sets.algebra import generalized_intersection, linear_map, minkowski_sum, translate
 from ..sets.base import ConvexSet
@@ -27,7 +28,8 @@ from ..sets.reduction import apply_methods, as_methods
 #: unit width (reliability case 027, ρ(A) = 3.5, T = 11: generators ~1e6 for a width ~3), and their
 #: hull endpoints were 3e-4 of the width off the HiGHS oracle in every noise regime, while the views,
 #: whose states are deviations from the nominal trajectory, agreed to 1e-6. 'recursion': Algorithm 1's
-#: CZs, built step by step (the recursion smoother's input). Cost, example (31) with certified hulls,
+#: CZs, built step by step (the recursion smoother's input), now also about the nominal trajectory
+#: (`setsmooth.nominal_deviations`). Cost, example (31) with certified hulls,
 #: CPU per data set: T = 50, views 0.33 s, recursion 0.22 s; T = 100, 0.88 s and 1.37 s (the
 #: recursion grows as O(T³), the views as O(T²); ``benchmarks/bench_long_horizon.py --cases crossover``).
 #: 'polygon': planar polytope systems only, Algorithm 1 in closed form with `Polygon`s (no solver;
@@ -115,13 +117,16 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
         from ..posterior_views import posterior_views
 
         posteriors = posterior_views(system, X0, ys)
+    deviations = None
     if posteriors is None:
-        posteriors = []
-        prior = X0
-        for k, y in enumerate(ys):
-            if k > 0:
-                prior = _predict(system, k - 1, posteriors[-1])
-            posteriors.append(_update(system, k, prior, y))
+        # Algorithm 1's recursion, run on the deviations from the nominal trajectory (the same sets,
+        # without rounding at the states' magnitude: `setsmooth.nominal_deviations`).
+        form_about = about_nominal(system, X0, ys)
+        if form_about is None:  # an unbounded X0 (no centre): the original coordinates
+            posteriors = _recursion(system, X0, ys)
+        else:
+            deviations = _recursion(form_about.system, form_about.X0, form_about.ys)
+            posteriors = form_about.to_states(deviations)
         # The recursion's CZs are certified against the data (`setsmooth.data_certificates`).
         from ..data_certificates import certified_against_data
 
@@ -129,7 +134,23 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
     if detect_empty:
         first = _first_empty(posteriors)
         posteriors[first:] = [EmptySet(system.n) for _ in range(first, len(posteriors))]
-    return SetEstimates(posteriors, system=system, X0=X0, ys=ys, kind="filtered")
+        if deviations is not None:
+            deviations[first:] = posteriors[first:]
+    result = SetEstimates(posteriors, system=system, X0=X0, ys=ys, kind="filtered")
+    if deviations is not None:
+        result._recursion_deviations = RecursionDeviations(form_about, deviations, result)
+    return result
+
+
+def _recursion(system, X0: ConvexSet, ys: np.ndarray) -> list[ConvexSet]:
+    """Algorithm 1's posteriors, step by step (stability (3)–(4))."""
+    posteriors: list[ConvexSet] = []
+    prior = X0
+    for k, y in enumerate(ys):
+        if k > 0:
+            prior = _predict(system, k - 1, posteriors[-1])
+        posteriors.append(_update(system, k, prior, y))
+    return posteriors
 
 
 def _reduced_filter(system, X0: ConvexSet, ys: np.ndarray, methods, detect_empty: bool

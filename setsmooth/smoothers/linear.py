@@ -95,7 +95,13 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
         raise ValueError(f"posteriors must hold one set per measurement ({len(ys)}), got {len(posteriors)}")
     if isinstance(posteriors, SetEstimates):
         posteriors.check_same_data(system, X0, ys)
-    smoothed = smooth(system, posteriors)
+    deviations = getattr(posteriors, "_recursion_deviations", None)
+    if deviations is not None and deviations.matches(posteriors):
+        # The filter's recursion ran about the nominal trajectory: so does the backward pass (the
+        # same sets, `setsmooth.nominal_deviations`).
+        smoothed = deviations.form.to_states(smooth(deviations.form.system, deviations.deviations))
+    else:
+        smoothed = smooth(system, posteriors)
     outer = getattr(posteriors, "outer", False)
     if isinstance(posteriors, SetEstimates) and not outer:
         # Exact sets of these data: certified against the data (`setsmooth.data_certificates`).

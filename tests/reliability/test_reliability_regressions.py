@@ -205,6 +205,24 @@ def test_recursion_smoother_certified_hulls_enclose_the_exact_ones_far_from_the_
     assert np.all(np.maximum(lo_x - lo, hi - hi_x) <= 1e-6 * unit)  # and tight
 
 
+def test_recursion_smoother_plain_hulls_are_exact_far_from_the_origin():
+    """Reliability case 033 (n = 6, rank-deficient C, T = 30) at offset 1e6: the backward recursion
+    in absolute coordinates rounded each intersection's centres at 1e6, differently in the two copies
+    of the same data, and its plain hulls were up to 5.3e-6 of w + σ narrower than the exact ones
+    (4.0e-6 at k = 24, 5.3e-6 at k = 25). The recursion now runs about the nominal trajectory
+    (`setsmooth.nominal_deviations`)."""
+    case = in_regime(base_case(2026, 33), "offset1e+06")
+    lo_x, hi_x = TrajectoryOracle(case.system, case.X0, case.ys).smoothed_hulls()
+    sigma = data_scale(case.system, case.X0)
+    smoothed = ss.optimal_smoother(case.system, case.X0, case.ys, method="recursion")
+    for k in (24, 25):
+        hull = smoothed[k].interval_hull(certified=False)
+        unit = hi_x[k] - lo_x[k] + sigma
+        fp = 64 * np.finfo(float).eps * (np.abs(lo_x[k]) + np.abs(hi_x[k]))
+        assert np.all(np.abs(hull.lo - lo_x[k]) <= 1e-6 * unit + fp), k
+        assert np.all(np.abs(hull.hi - hi_x[k]) <= 1e-6 * unit + fp), k
+
+
 def test_trajectory_rows_carry_the_rounding_of_the_nominal_trajectory():
     """Each dynamics row x_{k+1} − A x_k − B G_w ξ = 0 about the nominal x̄ holds exactly only up to
     A x̄_k + B c_w + u_k − x̄_{k+1}, rounded away when x̄ is 1e6: the row's slack covers it (rationals)."""
