@@ -30,6 +30,7 @@ from .certify import Operators, certified_bound, correct_multipliers, normal_sol
 from .clarabel_lp import _ALMOST_SOLVED, SolverError, solve_lp
 from .factor_set import FactorConstraints
 from .instances import cached_instance
+from .warm_simplex import new_batch
 
 __all__ = ["CZProgram", "SupportSolution"]
 
@@ -220,6 +221,7 @@ class CZProgram:
         bracketed = not escalate and (self.factors.free.size == 0
                                       or self.factors.free_bound() is not None)
         start = time.perf_counter()
+        new_batch()  # the simplex method's answers depend on this call alone (`warm_simplex`)
         try:
             for i in range(k):
                 res = self.factors.maximize(GtD[i], context, magnitude=magnitude[i],

@@ -157,3 +157,30 @@ def test_the_warm_models_are_per_thread_and_the_program_still_pickles():
             assert np.allclose(values, serial, rtol=1e-7, atol=0.0)
     again = pickle.loads(pickle.dumps(pre))
     assert simplex(again, q0)[0] == "AlmostSolved"
+
+
+def test_a_batch_starts_from_the_programs_feasible_basis_whatever_came_before():
+    """Each `new_batch` starts every model from its program's feasible basis (the zero objective's
+    optimum), so a batch's answers depend on the batch alone, bit for bit, not on the queries
+    solved before it; and each objective settles from there, where a cold start on 2 of these 8
+    fails at every rung."""
+    from setsmooth.solvers.warm_simplex import new_batch
+
+    pre, q0 = _cycling_program()
+    rng = np.random.default_rng(9)
+    objectives = [rng.standard_normal(q0.size) for _ in range(8)]
+
+    def batch(qs):
+        new_batch()
+        return [simplex(pre, q) for q in qs]
+
+    first = batch(objectives[:3])
+    batch([q0, -objectives[1], objectives[5]])  # other queries on the same model in between
+    again = batch(objectives[:3])
+    for (n1, eta1, lam1), (n2, eta2, lam2) in zip(first, again):
+        assert n1 == n2 == "AlmostSolved"
+        assert np.array_equal(eta1, eta2) and np.array_equal(lam1, lam2)
+    for q in objectives:
+        [(name, eta, lam)] = batch([q])
+        assert name == "AlmostSolved"
+        assert FactorConstraints._checked_gap(pre, q, eta, lam) is not None
