@@ -315,7 +315,7 @@ class ConstrainedZonotope(ConvexSet):
         >>> import numpy as np, setsmooth as ss
         >>> Z = ss.ConstrainedZonotope(np.eye(2), np.zeros(2), A=[[1.0, 1.0]], b=[1.0])
         >>> sol = Z.support_solution([1.0, 0.0])
-        >>> round(sol.value, 6), np.round(sol.factors, 6).tolist()
+        >>> round(sol.value, 6), (np.round(sol.factors, 6) + 0.0).tolist()   # + 0.0: no −0.0
         (1.0, [1.0, 0.0])
         """
         d = as_vector(d, "d", self.dim)

@@ -63,6 +63,11 @@ NOISE_FACTOR = 64
 #: its dense free-factor bound computed when the parts are joined.
 CHEAP_FREE_BOUND_MAX = 60
 
+#: The solves of a direction the caller brackets (`FactorConstraints.maximize`, ``bracketed``), in
+#: order: 'simplex' the warm-started simplex method, False the kept interior-point instance.
+#: ``benchmarks/bench_bracketed_order.py`` measures this order against the reverse one.
+BRACKETED_ATTEMPTS: tuple = ("simplex", False)
+
 #: Linearly dependent rows are looked for up front (dense rank-revealing QR) when nc·ng is at most
 #: this; larger (sparse, trajectory-sized) programs look for them only after a failed solve.
 DENSE_PRESOLVE_MAX = 5_000
@@ -303,13 +308,14 @@ class FactorConstraints:
             caller's a-posteriori check (`CZProgram`: certified bound against primal value).
         bracketed : bool
             The caller brackets the answer by a rigorous bound and escalates it when the bracket is
-            loose (`CZProgram._verified`): a rough interior-point answer goes straight to the
-            simplex method, without the refined re-solve. On degenerate programs (the recursion
-            smoother's sets: copies of the posterior factors linked by the states) the interior-
-            point method stalls at 'AlmostSolved' with duals off by ~1e-6 on half the directions
-            and the refined solve stalls at the same point. (Returning the rough answer for the
-            bracket to judge is not enough: the bracket's rounding floor, 2⁻⁴⁰ of the values'
-            magnitude, lets a loose dual through at offset 1e6, certified hulls 1.3e-6 off.)
+            loose (`CZProgram._verified`): the warm-started simplex method answers first, and the
+            kept interior-point instance (without its refined re-solve) only if the simplex method
+            does not settle. On degenerate programs (the recursion smoother's sets: copies of the
+            posterior factors linked by the states) the interior-point method stalls at
+            'AlmostSolved' with duals off by ~1e-6 on half the directions and the refined solve
+            stalls at the same point. (Returning the rough answer for the bracket to judge is not
+            enough: the bracket's rounding floor, 2⁻⁴⁰ of the values' magnitude, lets a loose dual
+            through at offset 1e6, certified hulls 1.3e-6 off.)
 
         Raises
         ------
@@ -332,11 +338,15 @@ class FactorConstraints:
             # 150, k = 6).
             attempts = [(first, "cold simplex"), (first, True)]
         elif bracketed:
-            # HiGHS's own presolve drops dependent rows, so the simplex method runs on the kept
-            # program; the fully presolved one is built only if it fails. Built first (as the
-            # refined re-solve's program), its dense rank-revealing QR was 72 % of the recursion
-            # smoother's time on reliability case 029 (CZ noises, 1000 × 1500 factor sets).
-            attempts = [(first, False), (first, "simplex")]
+            # The warm-started simplex method first, the interior-point method if it does not
+            # settle. On the recursion smoother's degenerate sets Clarabel stopped at 'AlmostSolved'
+            # on most directions and the simplex method re-solved them anyway: simplex first took
+            # the plain hulls of reliability cases 043 (scale 1e-6), 045 and 000 from 58, 70 and
+            # 8.4 s to 13, 39 and 5.4 s (`BRACKETED_ATTEMPTS`). HiGHS's own presolve
+            # drops dependent rows, so it runs on the kept program; the fully presolved one is built
+            # only if both fail (its dense rank-revealing QR was 72 % of the recursion smoother's
+            # time on reliability case 029, CZ noises, 1000 × 1500 factor sets).
+            attempts = [(first, refine) for refine in BRACKETED_ATTEMPTS]
         else:
             attempts = [(first, False), (first, True)]
         if not first.dependent_checked:
