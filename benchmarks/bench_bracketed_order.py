@@ -57,6 +57,8 @@ def ordered(order: str):
 
 
 def hulls(case, estimator: str) -> np.ndarray:
+    """Rows (lo, hi) of the plain, then the certified interval hull of every set of ``estimator``
+    ('recursion', 'trajectory' or 'filter') on ``case``."""
     out = []
     sets = (ss.classical_filter(case.system, case.X0, case.ys) if estimator == "filter" else
             ss.optimal_smoother(case.system, case.X0, case.ys, method=estimator))

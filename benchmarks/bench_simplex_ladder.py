@@ -32,8 +32,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-import setsmooth as ss  # noqa: E402
 from setsmooth.solvers import factor_set, presolve  # noqa: E402
+from benchmarks.bench_bracketed_order import hulls as estimator_hulls  # noqa: E402
 from tests.reliability.oracle import data_scale  # noqa: E402
 from tests.reliability.random_systems import base_case, in_regime  # noqa: E402
 
@@ -63,12 +63,8 @@ def configured(config: str, calls: collections.Counter):
 
 
 def hulls(case) -> np.ndarray:
-    out = []
-    for S in ss.optimal_smoother(case.system, case.X0, case.ys, method="recursion"):
-        for certified in (False, True):
-            H = S.interval_hull(certified=certified)
-            out.append(np.concatenate([H.lo, H.hi]))
-    return np.array(out)
+    """Plain and certified hull endpoints of every set of the recursion smoother on ``case``."""
+    return estimator_hulls(case, "recursion")
 
 
 def main() -> None:
