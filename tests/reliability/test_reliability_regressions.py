@@ -224,6 +224,26 @@ def test_recursion_smoother_plain_hulls_are_exact_far_from_the_origin():
         assert np.all(np.abs(hull.hi - hi_x[k]) <= 1e-6 * unit + fp), k
 
 
+def test_certified_filter_hulls_with_free_factors_stay_tight():
+    """Reliability case 069 (n = 6, CZ noises, non-square D, T = 24): the posterior views have free
+    factors (the states). With the simplex method answering their directions first, the multipliers
+    left its dual tolerance on the free factors and the certified hulls were up to 6.1e-5 of w + σ
+    wider than the exact ones (k = 19); Clarabel answers them first
+    (`factor_set.BRACKETED_ATTEMPTS_FREE`)."""
+    case = base_case(2026, 69)
+    lo_x, hi_x = TrajectoryOracle(case.system, case.X0, case.ys).filtered_hulls()
+    sigma = data_scale(case.system, case.X0)
+    posteriors = ss.classical_filter(case.system, case.X0, case.ys)
+    for k in (12, 19):
+        hull = posteriors[k].interval_hull(certified=True)
+        unit = hi_x[k] - lo_x[k] + sigma
+        fp = 64 * np.finfo(float).eps * (np.abs(lo_x[k]) + np.abs(hi_x[k]))
+        slack = ENCLOSE_TOL * unit + fp  # the oracle's own tolerance
+        assert np.all(hull.lo <= lo_x[k] + slack) and np.all(hull.hi >= hi_x[k] - slack), k
+        assert np.all(lo_x[k] - hull.lo <= 1e-6 * unit + fp), k
+        assert np.all(hull.hi - hi_x[k] <= 1e-6 * unit + fp), k
+
+
 def test_trajectory_rows_carry_the_rounding_of_the_nominal_trajectory():
     """Each dynamics row x_{k+1} − A x_k − B G_w ξ = 0 about the nominal x̄ holds exactly only up to
     A x̄_k + B c_w + u_k − x̄_{k+1}, rounded away when x̄ is 1e6: the row's slack covers it (rationals)."""
