@@ -316,14 +316,16 @@ class FactorConstraints:
             caller's a-posteriori check (`CZProgram`: certified bound against primal value).
         bracketed : bool
             The caller brackets the answer by a rigorous bound and escalates it when the bracket is
-            loose (`CZProgram._verified`): the warm-started simplex method answers first, and the
-            kept interior-point instance (without its refined re-solve) only if the simplex method
-            does not settle. On degenerate programs (the recursion smoother's sets: copies of the
-            posterior factors linked by the states) the interior-point method stalls at
-            'AlmostSolved' with duals off by ~1e-6 on half the directions and the refined solve
-            stalls at the same point. (Returning the rough answer for the bracket to judge is not
-            enough: the bracket's rounding floor, 2⁻⁴⁰ of the values' magnitude, lets a loose dual
-            through at offset 1e6, certified hulls 1.3e-6 off.)
+            loose (`CZProgram._verified`): on a program whose factors are all bounded the
+            warm-started simplex method answers first, and the kept interior-point instance
+            (without its refined re-solve) only if the simplex method does not settle; with free
+            factors the reverse (`BRACKETED_ATTEMPTS`, `BRACKETED_ATTEMPTS_FREE`). On degenerate
+            programs (the recursion smoother's sets: copies of the posterior factors linked by the
+            states) the interior-point method stalls at 'AlmostSolved' with duals off by ~1e-6 on
+            half the directions and the refined solve stalls at the same point. (Returning the
+            rough answer for the bracket to judge is not enough: the bracket's rounding floor,
+            2⁻⁴⁰ of the values' magnitude, lets a loose dual through at offset 1e6, certified
+            hulls 1.3e-6 off.)
 
         Raises
         ------
@@ -351,7 +353,7 @@ class FactorConstraints:
             # On the recursion smoother's degenerate sets Clarabel stopped at 'AlmostSolved'
             # on most directions and the simplex method re-solved them anyway: simplex first took
             # the plain hulls of reliability cases 043 (scale 1e-6), 045 and 000 from 58, 70 and
-            # 8.4 s to 13, 39 and 5.4 s (`BRACKETED_ATTEMPTS`). HiGHS's own presolve
+            # 8.4 s to 13, 39 and 5.4 s (``benchmarks/bench_bracketed_order.py``). HiGHS's presolve
             # drops dependent rows, so it runs on the kept program; the fully presolved one is built
             # only if both fail (its dense rank-revealing QR was 72 % of the recursion smoother's
             # time on reliability case 029, CZ noises, 1000 × 1500 factor sets).

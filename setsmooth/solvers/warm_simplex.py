@@ -122,7 +122,8 @@ class WarmSimplex:
         tolerance."""
         from .presolve import SIMPLEX_TOLERANCES, _rung_iterations
 
-        h = self._h
+        h, p = self._h, self.shape[1]
+        h.changeColsCost(p, self._columns, np.zeros(p))
         value = SIMPLEX_TOLERANCES[0]
         h.setOptionValue("primal_feasibility_tolerance", value)
         h.setOptionValue("dual_feasibility_tolerance", value)
