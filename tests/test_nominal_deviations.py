@@ -23,8 +23,8 @@ def offset_system() -> ss.LinearSystem:
 
 
 def data(system, X0, T, seed):
-    xs, ys = ss.simulate(system, X0, T, np.random.default_rng(seed))
-    return xs, ys
+    """(states, measurements) of one seeded simulation, k = 0..T."""
+    return ss.simulate(system, X0, T, np.random.default_rng(seed))
 
 
 def test_deviation_form_is_the_model_about_its_nominal_trajectory():

@@ -116,6 +116,13 @@ class WarmSimplex:
         self._start = _UNSET  # the feasible basis, found when the first batch starts
         self._batch = None
 
+    def _set_rung(self, tolerance: float | None, cap: int) -> None:
+        """HiGHS's primal and dual feasibility tolerance (None: its default, 1e-7) and iteration cap."""
+        value = 1e-7 if tolerance is None else tolerance
+        self._h.setOptionValue("primal_feasibility_tolerance", value)
+        self._h.setOptionValue("dual_feasibility_tolerance", value)
+        self._h.setOptionValue("simplex_iteration_limit", int(cap))
+
     def _feasible_basis(self):
         """The basis every batch starts from: the optimal basis of the zero objective (a feasible
         vertex), or None (cold starts) when that program does not settle at the first rung's
@@ -124,10 +131,7 @@ class WarmSimplex:
 
         h, p = self._h, self.shape[1]
         h.changeColsCost(p, self._columns, np.zeros(p))
-        value = SIMPLEX_TOLERANCES[0]
-        h.setOptionValue("primal_feasibility_tolerance", value)
-        h.setOptionValue("dual_feasibility_tolerance", value)
-        h.setOptionValue("simplex_iteration_limit", _rung_iterations(sum(self.shape), False))
+        self._set_rung(SIMPLEX_TOLERANCES[0], _rung_iterations(sum(self.shape), False))
         h.run()
         basis = h.getBasis() if h.getModelStatus() == self._status.kOptimal else None
         h.clearSolver()
@@ -154,10 +158,7 @@ class WarmSimplex:
         h.changeColsCost(p, self._columns, np.asarray(q, dtype=float))
         name = "NumericalError"
         for tolerance, cap in zip(tolerances, caps):
-            value = 1e-7 if tolerance is None else tolerance  # 1e-7: HiGHS's default
-            h.setOptionValue("primal_feasibility_tolerance", value)
-            h.setOptionValue("dual_feasibility_tolerance", value)
-            h.setOptionValue("simplex_iteration_limit", int(cap))
+            self._set_rung(tolerance, cap)
             h.run()
             model_status = h.getModelStatus()
             if model_status == status.kOptimal:
