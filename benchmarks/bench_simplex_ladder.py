@@ -33,7 +33,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from setsmooth.solvers import factor_set, presolve  # noqa: E402
-from benchmarks.bench_bracketed_order import hulls as estimator_hulls  # noqa: E402
+from benchmarks.side_by_side import hulls as estimator_hulls  # noqa: E402
 from tests.reliability.oracle import data_scale  # noqa: E402
 from tests.reliability.random_systems import base_case, in_regime  # noqa: E402
 

@@ -430,7 +430,7 @@ class FactorConstraints:
                 leak = pre.free_residual(q, z)
             gap = None
             if leak <= tol.REDUCED_COST_TOL and name in ("Solved", "AlmostSolved"):
-                gap = 0.0 if name == "Solved" else self._checked_gap(pre, q, eta, z)
+                gap = 0.0 if name == "Solved" else pre.checked_gap(q, eta, z)
             if gap is not None:
                 answer = Maximized("optimal", pre.factors(eta[None], self.ng)[0],
                                    pre.multipliers((z + lam0)[None], np.array([sigma]), self.nc)[0])
@@ -452,24 +452,6 @@ class FactorConstraints:
             # by the phase-one residual (an outer value, within EMPTINESS_TOL of the set's rows).
             return self._relaxed(pre, q, sigma, lam0)
         raise SolverError(last, context, kind=kind)
-
-    @staticmethod
-    def _checked_gap(pre: Presolved, q: np.ndarray, eta: np.ndarray, z: np.ndarray) -> float | None:
-        """Independent check of a reduced-accuracy answer in the presolved units: primal residual,
-        bound overshoot and gap to the weak-duality bound b̂ᵀλ + Σ_B |ĝ − Âᵀλ|_j must be within
-        ``SOLVER_CHECK_TOL`` of the scale (rows and objective have unit ∞-norm, bounds are 1).
-        Returns the relative gap, or None when the check fails."""
-        lam = z  # Clarabel's stationarity q + Âᵀz = 0 on the free factors: λ̂ = z
-        reduced = -q - pre.At @ lam
-        if np.abs(reduced[~pre.bounded]).max(initial=0.0) > tol.REDUCED_COST_TOL:
-            return None
-        primal = float(-q @ eta)
-        dual = float(lam @ pre.b + np.abs(reduced[pre.bounded]).sum())
-        scale = 1.0 + np.abs(pre.b).max(initial=0.0) + np.abs(q).sum()
-        residual = np.abs(pre.A @ eta - pre.b).max(initial=0.0)
-        overshoot = np.max(np.abs(eta[pre.bounded]) - 1.0, initial=0.0)
-        worst = max(abs(dual - primal), residual, overshoot) / scale
-        return worst if worst <= tol.SOLVER_CHECK_TOL else None
 
     def _relaxed(self, pre: Presolved, q: np.ndarray, sigma: float,
                  lam0: np.ndarray) -> Maximized:

@@ -15,7 +15,6 @@ import scipy.sparse as sp
 from scipy.optimize import linprog
 
 from setsmooth.solvers import presolve as presolve_module
-from setsmooth.solvers.factor_set import FactorConstraints
 from setsmooth.solvers.presolve import Presolved, simplex, simplex_cold
 
 DATA = Path(__file__).parent / "data" / "cycling_program.npz"
@@ -35,7 +34,7 @@ def test_a_program_the_tight_tolerance_cycles_on_is_settled_by_a_looser_rung():
     pre, q = _cycling_program()
     name, eta, lam = simplex(pre, q)
     assert name == "AlmostSolved"  # before: 'NumericalError' after 529,246 iterations
-    gap = FactorConstraints._checked_gap(pre, q, eta, lam)  # the caller's independent check
+    gap = pre.checked_gap(q, eta, lam)  # the caller's independent check
     assert gap is not None and gap <= 1e-6
     reference = linprog(q, A_eq=pre.A, b_eq=pre.b, bounds=[(-1, 1)] * q.size, method="highs")
     assert abs(q @ eta - reference.fun) <= 1e-6 * (1 + abs(reference.fun))
@@ -105,9 +104,9 @@ def test_the_warm_started_simplex_agrees_with_cold_solves_over_many_objectives()
     for q in objectives:
         warm, cold = simplex(pre, q), simplex_cold(pre, q)
         assert warm[0] == cold[0] == "AlmostSolved"
-        gap = FactorConstraints._checked_gap(pre, q, warm[1], warm[2])
+        gap = pre.checked_gap(q, warm[1], warm[2])
         assert gap is not None and gap <= tol.ACCURATE_GAP_TOL
-        if FactorConstraints._checked_gap(pre, q, cold[1], cold[2]) is not None:
+        if pre.checked_gap(q, cold[1], cold[2]) is not None:
             assert abs(q @ warm[1] - q @ cold[1]) <= 1e-6 * (1 + abs(q @ cold[1]))
         model = cached_instance(pre, "warm simplex", lambda: None)
         assert model._h.getInfo().simplex_iteration_count <= 20 * size + 1000
@@ -147,7 +146,7 @@ def test_the_warm_models_are_per_thread_and_the_program_still_pickles():
         for i in list(range(shift, 8)) + list(range(shift)):
             name, eta, lam = simplex(pre, objectives[i])
             assert name == "AlmostSolved"
-            assert FactorConstraints._checked_gap(pre, objectives[i], eta, lam) is not None
+            assert pre.checked_gap(objectives[i], eta, lam) is not None
             values[i] = objectives[i] @ eta
         return [values[i] for i in range(8)]
 
@@ -183,4 +182,43 @@ def test_a_batch_starts_from_the_programs_feasible_basis_whatever_came_before():
     for q in objectives:
         [(name, eta, lam)] = batch([q])
         assert name == "AlmostSolved"
-        assert FactorConstraints._checked_gap(pre, q, eta, lam) is not None
+        assert pre.checked_gap(q, eta, lam) is not None
+
+
+def test_a_loose_primal_answer_is_asked_again_of_the_dual_method_from_the_batch_start(monkeypatch):
+    """From a feasible basis the primal method answers (`warm_simplex.WARM_STRATEGY`). Where its
+    answer fails `Presolved.checked_gap` at ``ACCURATE_GAP_TOL`` (loose duals on this
+    ill-conditioned program: 4 of the 8 objectives, gaps 2.7e-7 to 8e-7 or failing), `simplex`
+    asks the dual method from the batch's start and keeps the better answer. Every answer then
+    passes the check at ``ACCURATE_GAP_TOL``."""
+    from setsmooth import tolerances as tol
+    from setsmooth.solvers.warm_simplex import WarmSimplex, new_batch
+
+    pre, q0 = _cycling_program()
+    rng = np.random.default_rng(9)
+    objectives = [rng.standard_normal(q0.size) for _ in range(8)]
+    calls = []
+    real = WarmSimplex.minimize
+
+    def recorded(self, q, tolerances, caps, dual=False):
+        answer = real(self, q, tolerances, caps, dual)
+        calls.append((dual, pre.checked_gap(q, answer[1], answer[2])))
+        return answer
+
+    monkeypatch.setattr(WarmSimplex, "minimize", recorded)
+    asked_again = 0
+    for q in objectives:
+        new_batch()
+        calls.clear()
+        name, eta, lam = simplex(pre, q)
+        first_gap = calls[0][1]
+        assert calls[0][0] is False
+        if first_gap is None or first_gap > tol.ACCURATE_GAP_TOL:
+            assert [dual for dual, _ in calls] == [False, True]
+            asked_again += 1
+        else:
+            assert len(calls) == 1
+        assert name == "AlmostSolved"
+        gap = pre.checked_gap(q, eta, lam)
+        assert gap is not None and gap <= tol.ACCURATE_GAP_TOL
+    assert asked_again >= 1  # the premise: the primal method is loose somewhere on this program
