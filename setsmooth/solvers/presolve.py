@@ -395,7 +395,8 @@ def simplex(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]
     caps = _rung_caps(sum(pre.A.shape), len(SIMPLEX_TOLERANCES))
     answer = model.minimize(q, SIMPLEX_TOLERANCES, caps)
     gap = _gap_or_inf(pre, q, answer)
-    if gap > tol.ACCURATE_GAP_TOL:
+    if gap > tol.ACCURATE_GAP_TOL and answer[0] not in ("PrimalInfeasible", "DualInfeasible"):
+        # (an infeasible or unbounded verdict is the caller's to judge, as `WarmSimplex.minimize`)
         again = model.minimize(q, SIMPLEX_TOLERANCES, caps, dual=True)
         if _gap_or_inf(pre, q, again) < gap or np.isinf(gap):
             answer = again

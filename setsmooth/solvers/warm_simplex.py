@@ -37,6 +37,7 @@ WARM_STRATEGY = _PRIMAL
 #: HiGHS's simplex_scale_strategy for the feasible basis, tried in turn (None: HiGHS's default; see
 #: `WarmSimplex._feasible_basis`).
 FEASIBLE_BASIS_SCALINGS = (0, None)
+
 _batches = threading.local()
 
 
@@ -127,7 +128,7 @@ class WarmSimplex:
         self._columns = np.arange(p, dtype=np.int32)
         self._start = _UNSET  # the feasible basis, found when the first batch starts
         self._batch = None
-        default = h.getOptionValue("simplex_scale_strategy")  # (status, value) in highspy >= 1.8
+        default = h.getOptionValue("simplex_scale_strategy")  # a (status, value) pair in recent highspy
         self._scaling = default[1] if isinstance(default, tuple) else default
         self._warm = False  # whether HiGHS holds a primal feasible basis (the primal method's start)
 
@@ -155,9 +156,9 @@ class WarmSimplex:
         HiGHS's own scaling is off for this solve first: the presolved program is equilibrated
         already (`presolve.presolve`), and on the recursion smoother's hull of reliability case 058
         the zero objective took 0.35 s unscaled against 0.88 s scaled, the directions from either
-        basis reaching the same values
-        (`benchmarks/bench_warm_simplex.py`). Scaling is back on for the directions, whose optimality
-        is judged in HiGHS's scaled units, and for a retry when the unscaled solve does not settle.
+        basis reaching the same values (`benchmarks/bench_warm_simplex.py`). Scaling is back on for
+        the directions, whose optimality is judged in HiGHS's scaled units, and for a retry when
+        the unscaled solve does not settle.
         """
         from .presolve import SIMPLEX_TOLERANCES, _rung_iterations
 
