@@ -19,14 +19,12 @@ checked against their certified bounds).
 
 from __future__ import annotations
 
-import argparse
-import contextlib
 import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from benchmarks.side_by_side import compare  # noqa: E402
+from benchmarks import side_by_side  # noqa: E402
 from setsmooth.solvers import factor_set  # noqa: E402
 
 #: (reliability index, regime, estimator): the recursion smoother's slowest box and CZ cases of the
@@ -35,25 +33,9 @@ from setsmooth.solvers import factor_set  # noqa: E402
 #: `factor_set.BRACKETED_ATTEMPTS_FREE`.)
 CASES = ((43, "scale1e-06", "recursion"), (45, "scale1", "recursion"), (0, "scale1", "recursion"))
 
-ORDERS = {"interior": (False, "simplex"), "simplex": ("simplex", False)}
-
-
-@contextlib.contextmanager
-def ordered(order: str):
-    saved = factor_set.BRACKETED_ATTEMPTS
-    factor_set.BRACKETED_ATTEMPTS = ORDERS[order]
-    try:
-        yield
-    finally:
-        factor_set.BRACKETED_ATTEMPTS = saved
-
-
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
-    ap.add_argument("--repeats", type=int, default=3)
-    args = ap.parse_args()
-    compare(CASES, {order: (lambda order=order: ordered(order)) for order in ORDERS}, args.repeats)
+ORDERS = {"interior": {"BRACKETED_ATTEMPTS": (False, "simplex")},
+          "simplex": {"BRACKETED_ATTEMPTS": ("simplex", False)}}
 
 
 if __name__ == "__main__":
-    main()
+    side_by_side.main(__doc__, CASES, factor_set, ORDERS, repeats=3)

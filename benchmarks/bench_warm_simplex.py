@@ -22,14 +22,12 @@ hull endpoints (both are checked against their certified bounds).
 
 from __future__ import annotations
 
-import argparse
-import contextlib
 import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from benchmarks.side_by_side import compare  # noqa: E402
+from benchmarks import side_by_side  # noqa: E402
 from setsmooth.solvers import warm_simplex  # noqa: E402
 
 #: (reliability index, regime, estimator): CZ-noise recursion cases 057 (n = 4, T = 23) and 058
@@ -38,25 +36,9 @@ from setsmooth.solvers import warm_simplex  # noqa: E402
 CASES = ((57, "scale1", "recursion"), (58, "scale1", "recursion"), (43, "scale1e-06", "recursion"),
          (0, "scale1", "recursion"), (69, "scale1", "trajectory"))
 
-VARIANTS = {"dual": (warm_simplex._DUAL, (None,)), "primal": (warm_simplex._PRIMAL, (0, None))}
-
-
-@contextlib.contextmanager
-def variant(name: str):
-    saved = warm_simplex.WARM_STRATEGY, warm_simplex.FEASIBLE_BASIS_SCALINGS
-    warm_simplex.WARM_STRATEGY, warm_simplex.FEASIBLE_BASIS_SCALINGS = VARIANTS[name]
-    try:
-        yield
-    finally:
-        warm_simplex.WARM_STRATEGY, warm_simplex.FEASIBLE_BASIS_SCALINGS = saved
-
-
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
-    ap.add_argument("--repeats", type=int, default=1)
-    args = ap.parse_args()
-    compare(CASES, {name: (lambda name=name: variant(name)) for name in VARIANTS}, args.repeats)
+VARIANTS = {"dual": {"WARM_STRATEGY": warm_simplex._DUAL, "FEASIBLE_BASIS_SCALINGS": (None,)},
+            "primal": {"WARM_STRATEGY": warm_simplex._PRIMAL, "FEASIBLE_BASIS_SCALINGS": (0, None)}}
 
 
 if __name__ == "__main__":
-    main()
+    side_by_side.main(__doc__, CASES, warm_simplex, VARIANTS, repeats=1)

@@ -10,10 +10,12 @@ between the two configurations' hull endpoints relative to the hull width plus t
 
 from __future__ import annotations
 
+import argparse
+import contextlib
 import sys
 import time
 from pathlib import Path
-from typing import Callable, ContextManager
+from types import ModuleType
 
 import numpy as np
 
@@ -37,9 +39,34 @@ def hulls(case, estimator: str) -> np.ndarray:
     return np.array(out)
 
 
-def compare(cases, configs: dict[str, Callable[[], ContextManager]], repeats: int) -> list[float]:
+@contextlib.contextmanager
+def patched(module: ModuleType, values: dict):
+    """The attributes of ``module`` set to ``values`` (name → value) for the duration."""
+    saved = {name: getattr(module, name) for name in values}
+    for name, value in values.items():
+        setattr(module, name, value)
+    try:
+        yield
+    finally:
+        for name, value in saved.items():
+            setattr(module, name, value)
+
+
+def main(description: str, cases, module: ModuleType, configs: dict[str, dict],
+         repeats: int) -> None:
+    """Command line of a side-by-side benchmark: ``--repeats`` (default ``repeats``), then
+    `compare` of ``configs`` (name → attribute values of ``module``, `patched`) on ``cases``."""
+    ap = argparse.ArgumentParser(description=description,
+                                 formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("--repeats", type=int, default=repeats)
+    args = ap.parse_args()
+    compare(cases, {name: (lambda values=values: patched(module, values))
+                    for name, values in configs.items()}, args.repeats)
+
+
+def compare(cases, configs: dict, repeats: int) -> list[float]:
     """Print one row per (reliability index, regime, estimator) in ``cases``: the median seconds
-    of the two ``configs`` (name → context manager factory), their ratio and the largest endpoint
+    of the two ``configs`` (name → context-manager factory), their ratio and the largest endpoint
     difference. Returns the ratios second/first."""
     first, second = configs
     print(f"{'case':<44} {first + ' s':>12} {second + ' s':>12} {'ratio':>7} {'max diff':>9}")
