@@ -42,8 +42,8 @@ from .. import tolerances as tol
 from . import clarabel_lp
 from .clarabel_lp import SolverError, _csc, _index_type, _zero_cost, solve_lp
 from .instances import cached_instance
-from .presolve import (Presolved, presolve, project_free, simplex, simplex_box_equalities,
-                       simplex_cold, simplex_inequalities)
+from .presolve import (Presolved, interior_cold, presolve, project_free, simplex,
+                       simplex_box_equalities, simplex_cold, simplex_inequalities)
 
 __all__ = ["FactorConstraints", "Maximized", "STACK_MAX_VARIABLES", "DENSE_PRESOLVE_MAX"]
 
@@ -269,13 +269,16 @@ class FactorConstraints:
         ``refine``: False on the kept instance, True on a fresh one with iterative refinement,
         'simplex' by HiGHS's simplex (`presolve.simplex`, warm-started; 'cold simplex':
         `presolve.simplex_cold`), the last resort on LPs where the interior-point method stops at
-        reduced accuracy; its optimum is reported as 'AlmostSolved' so that it goes through the
-        same independent check as any answer not certified by Clarabel.
+        reduced accuracy, and 'cold interior' HiGHS's interior-point method (`presolve.interior_cold`)
+        after every other; their optima are reported as 'AlmostSolved' so that they go through
+        the same independent check as any answer not certified by Clarabel.
         """
         if refine == "simplex":
             return simplex(pre, q)
         if refine == "cold simplex":
             return simplex_cold(pre, q)
+        if refine == "cold interior":
+            return interior_cold(pre, q)
         if refine:  # a fresh instance: the fallback must not inherit the kept one's state
             M, rhs, cones = self._program(pre)
             solver = clarabel.DefaultSolver(_zero_cost(q.size), q, M, rhs, cones,
@@ -365,6 +368,9 @@ class FactorConstraints:
             attempts.append((None, True))  # the fully presolved program, built only if needed
         if not escalate and not (bracketed and first.dependent_checked):
             attempts.append((None, "simplex"))  # (when dependent rows were checked: `first` again)
+        # Last, HiGHS's interior-point method: on reliability case 184 (k = 8) the simplex method
+        # met a singular basis on every rung and Clarabel a 'NumericalError', where it settled.
+        attempts.append((first, "cold interior"))
         last = "Unknown"
         best: tuple[float, Maximized] | None = None  # the tightest verified reduced-accuracy answer
         rough: Maximized | None = None  # the last unverified one (for certificates only)

@@ -212,9 +212,15 @@ class WarmSimplex:
             self._set_rung(tolerance, cap, primal=self._warm and not dual)
             h.run()
             model_status = h.getModelStatus()
-            if model_status == status.kOptimal:
-                sol = h.getSolution()
-                self._warm = True  # an optimal basis stays primal feasible for the next costs
+            sol = h.getSolution()
+            if model_status == status.kOptimal or (model_status == status.kUnknown
+                                                   and sol.value_valid and sol.dual_valid):
+                # 'Unknown' with a primal and dual solution: HiGHS stopped short of confirming
+                # optimality, often at the optimum (reliability case 184, k = 8: the primal
+                # method's 'Unknown' point had residual 3e-10 and the optimal value to 1e-12,
+                # where the cold rungs that followed failed or left residuals of 1e-5). The
+                # caller's independent check (`Presolved.checked_gap`) decides either way.
+                self._warm = model_status == status.kOptimal  # a basis known primal feasible
                 # HiGHS's row duals are ∂(min)/∂b̂, i.e. q = Âᵀy + (bound duals): λ̂ = −y.
                 return ("AlmostSolved", np.array(sol.col_value, dtype=float),
                         -np.array(sol.row_dual, dtype=float))

@@ -288,3 +288,21 @@ def test_a_bracket_far_from_the_origin_is_held_to_the_certificates_own_rounding(
     case = in_regime(base_case(2026, 168), "offset1e+06")
     result = compare_case(case, estimators=("filter",))
     assert not result.failed, describe(result)
+
+
+def test_recursion_smoother_hull_where_the_simplex_method_meets_a_singular_basis():
+    """Reliability case 184 (n = 5, box noises, non-square D, T = 37), smoothed set k = 8 (2,260 ×
+    2,967 presolved): along e_1 the warm primal method stopped at 'Unknown' at the optimum and every
+    cold rung after it failed or left residuals of 1e-5; along e_2 HiGHS's simplex method met a
+    rank-deficient basis on every rung and Clarabel stopped at 'NumericalError'. The hull raised
+    `SolverError('AlmostSolved')` from the relaxed last resort. An 'Unknown' point with a dual goes
+    to the independent check (`WarmSimplex.minimize`), and HiGHS's interior-point method is the
+    last fallback (`presolve.interior_cold`)."""
+    case = base_case(2026, 184)
+    lo_x, hi_x = TrajectoryOracle(case.system, case.X0, case.ys).smoothed_hulls()
+    sigma = data_scale(case.system, case.X0)
+    hull = ss.optimal_smoother(case.system, case.X0, case.ys, method="recursion")[8].interval_hull(
+        certified=False)
+    unit = hi_x[8] - lo_x[8] + sigma
+    assert np.all(np.abs(hull.lo - lo_x[8]) <= 1e-6 * unit)
+    assert np.all(np.abs(hull.hi - hi_x[8]) <= 1e-6 * unit)
