@@ -56,9 +56,10 @@ def test_a_stalled_membership_program_is_settled_by_the_simplex_method(monkeypat
     assert nontrivial_cz().contains(member) and not nontrivial_cz().contains(outside)
 
 
-def _no_simplex_fallback(monkeypatch):
-    """Make every simplex fallback fail, as on data no solver settles."""
-    for name in ("simplex", "simplex_cold"):
+def _no_highs_fallback(monkeypatch):
+    """Make every HiGHS fallback (simplex and interior-point method) fail, as on data no solver
+    settles."""
+    for name in ("simplex", "simplex_cold", "interior_cold"):
         monkeypatch.setattr(solvers.factor_set, name, lambda pre, q: (
             "MaxIterations", np.full(pre.A.shape[1], np.nan), np.full(pre.A.shape[0], np.nan)))
     monkeypatch.setattr(solvers.factor_set, "simplex_inequalities", lambda q, rows, r: (
@@ -69,7 +70,7 @@ def _no_simplex_fallback(monkeypatch):
 
 def test_a_solver_stopped_early_raises_solver_error_carrying_its_status(monkeypatch):
     patched_settings(monkeypatch, max_iter=1)
-    _no_simplex_fallback(monkeypatch)
+    _no_highs_fallback(monkeypatch)
     Z = nontrivial_cz()
     with pytest.raises(ss.SolverError, match="MaxIterations") as info:
         Z.support([1.0, 1.0, 0.0])
@@ -94,7 +95,7 @@ def test_a_certified_value_bounds_the_exact_support_even_at_reduced_accuracy(mon
     exact = nontrivial_cz().support([1.0, 1.0, 0.0])
     patched_settings(monkeypatch, max_iter=5, reduced_tol_gap_abs=1e-2, reduced_tol_gap_rel=1e-2,
                      reduced_tol_feas=1e-2)
-    _no_simplex_fallback(monkeypatch)  # no fallback settles it
+    _no_highs_fallback(monkeypatch)  # no fallback settles it
     assert nontrivial_cz().support([1.0, 1.0, 0.0], certified=True) >= exact
     with pytest.raises(ss.SolverError) as info:
         nontrivial_cz().support([1.0, 1.0, 0.0])  # the unverified primal value is refused
