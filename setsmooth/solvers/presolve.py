@@ -384,8 +384,8 @@ def simplex(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]
 
     One HiGHS model per presolved program and thread, warm-started from the last objective's basis
     (`warm_simplex.WarmSimplex`), through the ladder ``SIMPLEX_TOLERANCES``: the primal method
-    from that basis, and the dual method from the batch's start when the primal answer fails
-    `Presolved.checked_gap` at ``ACCURATE_GAP_TOL`` (on ill-conditioned programs the primal
+    from that basis, and the dual method from the batch's start when the primal method's answer
+    fails `Presolved.checked_gap` at ``ACCURATE_GAP_TOL`` (on ill-conditioned programs the primal
     method's duals can be loose: gaps of 2.7e-7 to 8e-7, or failing the check, on 4 of 8 objectives
     of the test suite's cycling program, where the dual method's are below 3e-9). `simplex_cold`
     is the same ladder by SciPy's ``linprog`` from scratch, the reference it is tested against."""
@@ -396,8 +396,7 @@ def simplex(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]
     caps = _rung_caps(sum(pre.A.shape), len(SIMPLEX_TOLERANCES))
     answer = model.minimize(q, SIMPLEX_TOLERANCES, caps)
     gap = _gap_or_inf(pre, q, answer)
-    if gap > tol.ACCURATE_GAP_TOL and answer[0] not in ("PrimalInfeasible", "DualInfeasible"):
-        # (an infeasible or unbounded verdict is the caller's to judge, as `WarmSimplex.minimize`)
+    if gap > tol.ACCURATE_GAP_TOL and model.answered_by_primal:
         again = model.minimize(q, SIMPLEX_TOLERANCES, caps, dual=True)
         if _gap_or_inf(pre, q, again) < gap or np.isinf(gap):
             answer = again

@@ -131,6 +131,10 @@ class WarmSimplex:
         default = h.getOptionValue("simplex_scale_strategy")  # a (status, value) pair in recent highspy
         self._scaling = default[1] if isinstance(default, tuple) else default
         self._warm = False  # whether HiGHS holds a primal feasible basis (the primal method's start)
+        #: Whether the last `minimize` answer came from the primal method (`presolve.simplex` asks
+        #: the dual method again only then: a ladder that fell through to the cold dual rungs has
+        #: had its dual answer, and repeating it doubled the time of a cycling program).
+        self.answered_by_primal = False
 
     def _set_rung(self, tolerance: float | None, cap: int, primal: bool = False) -> None:
         """HiGHS's primal and dual feasibility tolerance (None: its default, 1e-7), iteration cap,
@@ -208,8 +212,10 @@ class WarmSimplex:
             self._restart()
         h.changeColsCost(p, self._columns, np.asarray(q, dtype=float))
         name = "NumericalError"
+        self.answered_by_primal = False
         for tolerance, cap in zip(tolerances, caps):
-            self._set_rung(tolerance, cap, primal=self._warm and not dual)
+            primal = self._warm and not dual
+            self._set_rung(tolerance, cap, primal=primal)
             h.run()
             model_status = h.getModelStatus()
             sol = h.getSolution()
@@ -221,6 +227,7 @@ class WarmSimplex:
                 # where the cold rungs that followed failed or left residuals of 1e-5). The
                 # caller's independent check (`Presolved.checked_gap`) decides either way.
                 self._warm = model_status == status.kOptimal  # a basis known primal feasible
+                self.answered_by_primal = primal
                 # HiGHS's row duals are ∂(min)/∂b̂, i.e. q = Âᵀy + (bound duals): λ̂ = −y.
                 return ("AlmostSolved", np.array(sol.col_value, dtype=float),
                         -np.array(sol.row_dual, dtype=float))
