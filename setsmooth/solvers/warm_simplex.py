@@ -218,9 +218,9 @@ class WarmSimplex:
             self._set_rung(tolerance, cap, primal=primal)
             h.run()
             model_status = h.getModelStatus()
-            sol = h.getSolution()
-            if model_status == status.kOptimal or (model_status == status.kUnknown
-                                                   and sol.value_valid and sol.dual_valid):
+            sol = h.getSolution() if model_status in (status.kOptimal, status.kUnknown) else None
+            if model_status == status.kOptimal or (sol is not None and sol.value_valid
+                                                   and sol.dual_valid):
                 # 'Unknown' with a primal and dual solution: HiGHS stopped short of confirming
                 # optimality, often at the optimum (reliability case 184, k = 8: the primal
                 # method's 'Unknown' point had residual 3e-10 and the optimal value to 1e-12,

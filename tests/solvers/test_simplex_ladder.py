@@ -222,3 +222,31 @@ def test_a_loose_primal_answer_is_asked_again_of_the_dual_method_from_the_batch_
         gap = pre.checked_gap(q, eta, lam)
         assert gap is not None and gap <= tol.ACCURATE_GAP_TOL
     assert asked_again >= 1  # the premise: the primal method is loose somewhere on this program
+
+
+def test_the_interior_point_fallback_reaches_the_simplex_methods_optimum():
+    """`presolve.interior_cold` (HiGHS's interior-point method, the last fallback before the relaxed
+    program) answers a random feasible program at the cold simplex method's optimum, with
+    multipliers that pass the caller's independent check. (On the cycling program above it stops
+    with 'NumericalError': no single method settles every program, hence the chain.)"""
+    from setsmooth import tolerances as tol
+    from setsmooth.solvers.presolve import interior_cold
+
+    rng = np.random.default_rng(3)
+    m, p = 20, 45
+    A = sp.csc_matrix(rng.standard_normal((m, p)))
+    bounded = np.ones(p, dtype=bool)
+    bounded[:3] = False  # free factors too
+    b = A @ rng.uniform(-0.5, 0.5, p)
+    pre = Presolved(A=A, b=b, rows=np.arange(m), cols=np.arange(p), row_scale=np.ones(m),
+                    col_scale=np.ones(p), bounded=bounded, empty=False, dependent_checked=True)
+    for _ in range(4):
+        q = rng.standard_normal(p)
+        q[:3] = -(A[:, :3].T @ rng.standard_normal(m))  # bounded: q cancels on the free factors
+        name, eta, lam = interior_cold(pre, q)
+        assert name == "AlmostSolved"
+        gap = pre.checked_gap(q, eta, lam)
+        assert gap is not None and gap <= tol.ACCURATE_GAP_TOL
+        reference = simplex_cold(pre, q)
+        assert reference[0] == "AlmostSolved"
+        assert abs(q @ eta - q @ reference[1]) <= 1e-8 * (1 + abs(q @ reference[1]))
