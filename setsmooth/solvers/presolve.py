@@ -83,6 +83,23 @@ def _rung_iterations(size: int, last: bool) -> int:
     return 20 * size + 1000 if last else size + 200
 
 
+#: A rung's time limit is ``RUNG_SECONDS_FLOOR`` + ``RUNG_SECONDS_PER_ITERATION`` × the tight rungs'
+#: iteration cap (`rung_seconds`; the last rung's cap, 20× larger, is a guard against cycling
+#: that legitimate solves never reach). It guards against HiGHS's dual simplex method looping in
+#: its primal clean-up without counting iterations, where no cap stops it: on the recursion
+#: smoother's set k = 17 of reliability case 184 at noise 1e3 (1,864 rows, 2,454 factors, 103 k
+#: nonzeros) the cold dual rung reached its 2,025th iteration in 0.2 s and then ran for hours at
+#: any cap. The densest programs seen take 1.5 ms per iteration (case 039, k = 20: 199 k
+#: nonzeros), so a rung that settles stays far below the limit; one that reaches it has failed.
+RUNG_SECONDS_FLOOR = 10.0
+RUNG_SECONDS_PER_ITERATION = 5e-3
+
+
+def rung_seconds(size: int) -> float:
+    """The time limit of every simplex rung on a program of ``size`` = rows + columns."""
+    return RUNG_SECONDS_FLOOR + RUNG_SECONDS_PER_ITERATION * _rung_iterations(size, False)
+
+
 def _rung_caps(size: int, rungs: int) -> list[int]:
     """The iteration caps of a ladder of ``rungs`` rungs (`_rung_iterations`)."""
     return [_rung_iterations(size, rung == rungs - 1) for rung in range(rungs)]
@@ -96,14 +113,14 @@ def _refused(res) -> bool:
 def _highs_ladder(q: np.ndarray, size: int, tolerances: tuple = SIMPLEX_TOLERANCES,
                   method: str = "highs", **program):
     """``scipy.optimize.linprog(q, method=method, **program)`` through ``tolerances``: the first
-    rung's result that is not an iteration limit (status 1) or a numerical failure (status 4, or
-    status 2 without 'infeasible' in the message: HiGHS refusing the data). An infeasible or
-    unbounded verdict ends the ladder: it is the caller's to judge, as before."""
+    rung's result that is not an iteration or time limit (status 1; `rung_seconds`) or a
+    numerical failure (status 4, or status 2 without 'infeasible' in the message: HiGHS refusing
+    the data). An infeasible or unbounded verdict ends the ladder: it is the caller's to judge."""
     from scipy.optimize import linprog
 
     res = None
     for tolerance, cap in zip(tolerances, _rung_caps(size, len(tolerances))):
-        options = {"maxiter": cap}
+        options = {"maxiter": cap, "time_limit": rung_seconds(size)}
         if tolerance is not None:
             options.update(primal_feasibility_tolerance=tolerance,
                            dual_feasibility_tolerance=tolerance)

@@ -10,9 +10,10 @@ method answers (only the costs changed: straight to its phase two), from scratch
 the recursion smoother's sets (3,000 factors, 2,000 rows) the cold solves took ~2,300 iterations
 each; from the last optimum the primal method takes ~80.
 
-The tolerance ladder is `presolve.SIMPLEX_TOLERANCES`, each rung capped as there
-(`presolve._rung_iterations`); a rung that does not settle is dropped with its basis
-(``clearSolver``), so the next, looser rung starts cold and cannot inherit a cycling basis.
+The tolerance ladder is `presolve.SIMPLEX_TOLERANCES`, each rung capped and timed as there
+(`presolve._rung_iterations`, `presolve.rung_seconds`); a rung that does not settle is dropped
+with its basis (``clearSolver``), so the next, looser rung starts cold and cannot inherit a cycling
+basis, and after a rung that ran out of time the dual method no longer perturbs the costs.
 """
 
 from __future__ import annotations
@@ -23,6 +24,8 @@ import threading
 
 import numpy as np
 import scipy.sparse as sp
+
+from .presolve import SIMPLEX_TOLERANCES, _rung_iterations, rung_seconds
 
 __all__ = ["WarmSimplex", "new_batch"]
 
@@ -136,9 +139,12 @@ class WarmSimplex:
         #: had its dual answer, and repeating it doubled the time of a cycling program).
         self.answered_by_primal = False
 
-    def _set_rung(self, tolerance: float | None, cap: int, primal: bool = False) -> None:
+    def _set_rung(self, tolerance: float | None, cap: int, primal: bool = False,
+                  perturbed: bool = True) -> None:
         """HiGHS's primal and dual feasibility tolerance (None: its default, 1e-7), iteration cap,
-        and simplex variant: the primal method (from a primal feasible basis), else the dual one.
+        time limit (`presolve.rung_seconds`), simplex variant: the primal method (from a
+        primal feasible basis), else the dual one, and whether the dual method perturbs the costs
+        (HiGHS's default; see `minimize` for when it does not).
 
         From a feasible basis only the costs have changed, so the primal method goes straight to
         its phase two; the dual method must first restore dual feasibility. On the recursion
@@ -150,7 +156,11 @@ class WarmSimplex:
         self._h.setOptionValue("primal_feasibility_tolerance", value)
         self._h.setOptionValue("dual_feasibility_tolerance", value)
         self._h.setOptionValue("simplex_iteration_limit", int(cap))
+        # HiGHS's time limit is on the model's run time summed over all its solves: from now.
+        self._h.setOptionValue("time_limit", self._h.getRunTime() + rung_seconds(sum(self.shape)))
         self._h.setOptionValue("simplex_strategy", WARM_STRATEGY if primal else _DUAL)
+        self._h.setOptionValue("dual_simplex_cost_perturbation_multiplier",
+                               1.0 if perturbed else 0.0)
 
     def _feasible_basis(self):
         """The basis every batch starts from: the optimal basis of the zero objective (a feasible
@@ -164,8 +174,6 @@ class WarmSimplex:
         the directions, whose optimality is judged in HiGHS's scaled units, and for a retry when
         the unscaled solve does not settle.
         """
-        from .presolve import SIMPLEX_TOLERANCES, _rung_iterations
-
         h, p = self._h, self.shape[1]
         h.changeColsCost(p, self._columns, np.zeros(p))
         self._set_rung(SIMPLEX_TOLERANCES[0], _rung_iterations(sum(self.shape), False))
@@ -213,11 +221,18 @@ class WarmSimplex:
         h.changeColsCost(p, self._columns, np.asarray(q, dtype=float))
         name = "NumericalError"
         self.answered_by_primal = False
+        perturbed = True
         for tolerance, cap in zip(tolerances, caps):
             primal = self._warm and not dual
-            self._set_rung(tolerance, cap, primal=primal)
+            self._set_rung(tolerance, cap, primal=primal, perturbed=perturbed)
             h.run()
             model_status = h.getModelStatus()
+            if model_status == status.kTimeLimit:
+                # HiGHS's dual method looping in the primal clean-up that follows its removal of
+                # the cost perturbation (`presolve.RUNG_SECONDS_FLOOR`): the later rungs solve
+                # unperturbed. On the program that hung, the unperturbed dual method settled the
+                # same objective in 2,191 iterations, 0.2 s.
+                perturbed = False
             sol = h.getSolution() if model_status in (status.kOptimal, status.kUnknown) else None
             if model_status == status.kOptimal or (sol is not None and sol.value_valid
                                                    and sol.dual_valid):
@@ -236,7 +251,8 @@ class WarmSimplex:
             elif model_status in (status.kUnbounded, status.kUnboundedOrInfeasible):
                 name = "DualInfeasible"
             else:
-                name = ("MaxIterations" if model_status == status.kIterationLimit
+                name = ("MaxIterations"
+                        if model_status in (status.kIterationLimit, status.kTimeLimit)
                         else "NumericalError")
                 h.clearSolver()  # the next rung starts cold
                 self._warm = False

@@ -250,3 +250,55 @@ def test_the_interior_point_fallback_reaches_the_simplex_methods_optimum():
         reference = simplex_cold(pre, q)
         assert reference[0] == "AlmostSolved"
         assert abs(q @ eta - q @ reference[1]) <= 1e-8 * (1 + abs(q @ reference[1]))
+
+
+def test_a_rungs_time_limit_counts_from_its_own_start(monkeypatch):
+    """HiGHS's ``time_limit`` is on a model's run time summed over all its solves; the kept model
+    (`WarmSimplex`) solves many objectives, so each rung's limit (`presolve.rung_seconds`) is set
+    from the current run time. A model whose solves sum to several limits still answers every
+    objective (set from zero, every rung after the first 0.15 s would stop at once)."""
+    from setsmooth.solvers import warm_simplex
+    from setsmooth.solvers.instances import cached_instance
+    from setsmooth.solvers.warm_simplex import new_batch
+
+    monkeypatch.setattr(warm_simplex, "rung_seconds", lambda size: 0.15)
+    pre, q0 = _cycling_program()
+    rng = np.random.default_rng(11)
+    for _ in range(120):
+        new_batch()  # each objective from the program's feasible basis: ~5 ms of HiGHS's time
+        q = rng.standard_normal(q0.size)
+        assert simplex(pre, q)[0] == "AlmostSolved"  # a rung that stopped at once: 'MaxIterations'
+    model = cached_instance(pre, "warm simplex", lambda: None)
+    assert model._h.getRunTime() > 0.3  # the premise: the solves summed to over twice the limit
+
+
+def test_after_a_rung_reaches_its_time_limit_the_dual_method_does_not_perturb_the_costs(
+        monkeypatch):
+    """HiGHS's dual method can loop in the primal clean-up after it removes its cost perturbation,
+    without counting iterations (reliability case 184 at noise 1e3, k = 17: hours at any cap).
+    A rung that reaches its time limit has failed like a capped one, and the later rungs of its
+    ladder solve with unperturbed costs. Here the first rung's limit is zero."""
+    from setsmooth import tolerances as tol
+    from setsmooth.solvers import warm_simplex
+    from setsmooth.solvers.warm_simplex import WarmSimplex, new_batch
+
+    pre, q = _cycling_program()
+    new_batch()
+    simplex(pre, -q)  # the model and its feasible basis, with the real limits
+    limits = iter([0.0])
+    real_limit = warm_simplex.rung_seconds
+    monkeypatch.setattr(warm_simplex, "rung_seconds", lambda size: next(limits, real_limit(size)))
+    perturbed = []
+    real_rung = WarmSimplex._set_rung
+
+    def recorded(self, *args, **kwargs):
+        perturbed.append(kwargs.get("perturbed", True))
+        real_rung(self, *args, **kwargs)
+
+    monkeypatch.setattr(WarmSimplex, "_set_rung", recorded)
+    new_batch()
+    name, eta, lam = simplex(pre, q)
+    assert perturbed[:2] == [True, False]
+    assert name == "AlmostSolved"
+    gap = pre.checked_gap(q, eta, lam)
+    assert gap is not None and gap <= tol.ACCURATE_GAP_TOL
