@@ -59,7 +59,7 @@ def test_a_stalled_membership_program_is_settled_by_the_simplex_method(monkeypat
 def _no_highs_fallback(monkeypatch):
     """Make every HiGHS fallback (simplex and interior-point method) fail, as on data no solver
     settles."""
-    for name in ("simplex", "simplex_cold", "interior_cold"):
+    for name in ("simplex", "simplex_cold", "interior_point"):
         monkeypatch.setattr(solvers.factor_set, name, lambda pre, q: (
             "MaxIterations", np.full(pre.A.shape[1], np.nan), np.full(pre.A.shape[0], np.nan)))
     monkeypatch.setattr(solvers.factor_set, "simplex_inequalities", lambda q, rows, r: (

@@ -42,8 +42,9 @@ from .. import tolerances as tol
 from . import clarabel_lp
 from .clarabel_lp import SolverError, _csc, _index_type, _zero_cost, solve_lp
 from .instances import cached_instance
-from .presolve import (Presolved, interior_cold, presolve, project_free, simplex,
-                       simplex_box_equalities, simplex_cold, simplex_inequalities)
+from .interior_point import interior_point
+from .presolve import (Presolved, presolve, project_free, simplex, simplex_box_equalities,
+                       simplex_cold, simplex_inequalities)
 
 __all__ = ["FactorConstraints", "Maximized", "STACK_MAX_VARIABLES", "DENSE_PRESOLVE_MAX"]
 
@@ -269,7 +270,8 @@ class FactorConstraints:
         ``refine``: False on the kept instance, True on a fresh one with iterative refinement,
         'simplex' by HiGHS's simplex (`presolve.simplex`, warm-started; 'cold simplex':
         `presolve.simplex_cold`), the last resort on LPs where the interior-point method stops at
-        reduced accuracy, and 'cold interior' HiGHS's interior-point method (`presolve.interior_cold`)
+        reduced accuracy, and 'cold interior' HiGHS's interior-point method without crossover
+        (`interior_point.interior_point`)
         after every other; their optima are reported as 'AlmostSolved' so that they go through
         the same independent check as any answer not certified by Clarabel.
         """
@@ -278,7 +280,7 @@ class FactorConstraints:
         if refine == "cold simplex":
             return simplex_cold(pre, q)
         if refine == "cold interior":
-            return interior_cold(pre, q)
+            return interior_point(pre, q)
         if refine:  # a fresh instance: the fallback must not inherit the kept one's state
             M, rhs, cones = self._program(pre)
             solver = clarabel.DefaultSolver(_zero_cost(q.size), q, M, rhs, cones,
@@ -369,7 +371,8 @@ class FactorConstraints:
         if not escalate and not (bracketed and first.dependent_checked):
             attempts.append((None, "simplex"))  # (when dependent rows were checked: `first` again)
         # Last, HiGHS's interior-point method: on reliability case 184 (k = 8) the simplex method
-        # met a singular basis on every rung and Clarabel a 'NumericalError', where it settled.
+        # met a singular basis on every rung and Clarabel a 'NumericalError', where it settled;
+        # without crossover, since at noise 1e3 (k = 25) the crossover's bases failed too.
         attempts.append((first, "cold interior"))
         last = "Unknown"
         best: tuple[float, Maximized] | None = None  # the tightest verified reduced-accuracy answer

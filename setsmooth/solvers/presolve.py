@@ -110,9 +110,8 @@ def _refused(res) -> bool:
     return res.status == 2 and "infeasible" not in res.message.lower()
 
 
-def _highs_ladder(q: np.ndarray, size: int, tolerances: tuple = SIMPLEX_TOLERANCES,
-                  method: str = "highs", **program):
-    """``scipy.optimize.linprog(q, method=method, **program)`` through ``tolerances``: the first
+def _highs_ladder(q: np.ndarray, size: int, tolerances: tuple = SIMPLEX_TOLERANCES, **program):
+    """``scipy.optimize.linprog(q, method='highs', **program)`` through ``tolerances``: the first
     rung's result that is not an iteration or time limit (status 1; `rung_seconds`) or a
     numerical failure (status 4, or status 2 without 'infeasible' in the message: HiGHS refusing
     the data). An infeasible or unbounded verdict ends the ladder: it is the caller's to judge."""
@@ -124,7 +123,7 @@ def _highs_ladder(q: np.ndarray, size: int, tolerances: tuple = SIMPLEX_TOLERANC
         if tolerance is not None:
             options.update(primal_feasibility_tolerance=tolerance,
                            dual_feasibility_tolerance=tolerance)
-        res = linprog(q, method=method, options=options, **program)
+        res = linprog(q, method="highs", options=options, **program)
         if res.status not in (1, 4) and not _refused(res):
             return res
     return res
@@ -429,23 +428,14 @@ def _gap_or_inf(pre: Presolved, q: np.ndarray, answer: tuple) -> float:
 
 def simplex_cold(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
     """`simplex` by SciPy's ``linprog``, every objective from scratch (the reference)."""
-    return _cold(pre, q, "highs")
+    return _cold(pre, q)
 
 
-def interior_cold(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
-    """`simplex_cold` by HiGHS's interior-point method (with its crossover to a vertex): the last
-    fallback before the relaxed program, for programs whose optimal bases are nearly singular.
-    On reliability case 184 (k = 8, 2,260 rows) HiGHS's simplex method stopped on every rung with
-    a rank-deficient basis and Clarabel with 'NumericalError', where this method settled at the
-    optimum to 1e-11."""
-    return _cold(pre, q, "highs-ipm")
-
-
-def _cold(pre: Presolved, q: np.ndarray, method: str) -> tuple[str, np.ndarray, np.ndarray]:
+def _cold(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
     m, p = pre.A.shape
     bounds = np.where(pre.bounded[:, None], [[-1.0, 1.0]], [[-np.inf, np.inf]])
     res = _highs_ladder(q, m + p, A_eq=pre.A if m else None, b_eq=pre.b if m else None,
-                        bounds=bounds, method=method)
+                        bounds=bounds)
     names = {0: "AlmostSolved", 1: "MaxIterations", 2: "PrimalInfeasible", 3: "DualInfeasible"}
     name = "NumericalError" if _refused(res) else names.get(res.status, "NumericalError")
     if res.status != 0:

@@ -27,7 +27,7 @@ import scipy.sparse as sp
 
 from .presolve import SIMPLEX_TOLERANCES, _rung_iterations, rung_seconds
 
-__all__ = ["WarmSimplex", "new_batch"]
+__all__ = ["WarmSimplex", "factor_model", "new_batch"]
 
 _UNSET = object()
 _DUAL, _PRIMAL = 1, 4  # HiGHS's simplex_strategy values
@@ -90,6 +90,31 @@ def _quiet_highs():
     return h
 
 
+def factor_model(A: sp.spmatrix, b: np.ndarray, bounded: np.ndarray):
+    """A quiet ``highspy.Highs`` holding min 0ᵀη subject to Aη = b, |η_j| ≤ 1 where ``bounded``
+    (the costs are set per objective)."""
+    import highspy
+
+    A = sp.csc_matrix(A)
+    m, p = A.shape
+    h = _quiet_highs()
+    inf = highspy.kHighsInf
+    lp = highspy.HighsLp()
+    lp.num_col_, lp.num_row_ = p, m
+    lp.col_cost_ = np.zeros(p)
+    lp.col_lower_ = np.where(bounded, -1.0, -inf)
+    lp.col_upper_ = np.where(bounded, 1.0, inf)
+    lp.row_lower_ = np.asarray(b, dtype=float)
+    lp.row_upper_ = np.asarray(b, dtype=float)
+    lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
+    lp.a_matrix_.start_ = A.indptr
+    lp.a_matrix_.index_ = A.indices
+    lp.a_matrix_.value_ = A.data
+    lp.a_matrix_.num_col_, lp.a_matrix_.num_row_ = p, m
+    h.passModel(lp)
+    return h
+
+
 class WarmSimplex:
     """min qᵀη subject to Âη = b̂ and |η_j| ≤ 1 on the bounded factors, for one (Â, b̂) and any q.
 
@@ -108,25 +133,10 @@ class WarmSimplex:
     def __init__(self, A: sp.spmatrix, b: np.ndarray, bounded: np.ndarray):
         import highspy
 
-        A = sp.csc_matrix(A)
         m, p = A.shape
         self.shape = (m, p)
         self._status = highspy.HighsModelStatus
-        h = _quiet_highs()
-        inf = highspy.kHighsInf
-        lp = highspy.HighsLp()
-        lp.num_col_, lp.num_row_ = p, m
-        lp.col_cost_ = np.zeros(p)
-        lp.col_lower_ = np.where(bounded, -1.0, -inf)
-        lp.col_upper_ = np.where(bounded, 1.0, inf)
-        lp.row_lower_ = np.asarray(b, dtype=float)
-        lp.row_upper_ = np.asarray(b, dtype=float)
-        lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-        lp.a_matrix_.start_ = A.indptr
-        lp.a_matrix_.index_ = A.indices
-        lp.a_matrix_.value_ = A.data
-        lp.a_matrix_.num_col_, lp.a_matrix_.num_row_ = p, m
-        h.passModel(lp)
+        h = factor_model(A, b, bounded)
         self._h = h
         self._columns = np.arange(p, dtype=np.int32)
         self._start = _UNSET  # the feasible basis, found when the first batch starts

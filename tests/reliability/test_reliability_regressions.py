@@ -297,7 +297,7 @@ def test_recursion_smoother_hull_where_the_simplex_method_meets_a_singular_basis
     rank-deficient basis on every rung and Clarabel stopped at 'NumericalError'. The hull raised
     `SolverError('AlmostSolved')` from the relaxed last resort. An 'Unknown' point with a dual goes
     to the independent check (`WarmSimplex.minimize`), and HiGHS's interior-point method is the
-    last fallback (`presolve.interior_cold`)."""
+    last fallback (`interior_point.interior_point`)."""
     case = base_case(2026, 184)
     lo_x, hi_x = TrajectoryOracle(case.system, case.X0, case.ys).smoothed_hulls()
     sigma = data_scale(case.system, case.X0)

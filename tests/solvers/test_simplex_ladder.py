@@ -225,12 +225,11 @@ def test_a_loose_primal_answer_is_asked_again_of_the_dual_method_from_the_batch_
 
 
 def test_the_interior_point_fallback_reaches_the_simplex_methods_optimum():
-    """`presolve.interior_cold` (HiGHS's interior-point method, the last fallback before the relaxed
-    program) answers a random feasible program at the cold simplex method's optimum, with
-    multipliers that pass the caller's independent check. (On the cycling program above it stops
-    with 'NumericalError': no single method settles every program, hence the chain.)"""
+    """`interior_point.interior_point` (HiGHS's interior-point method without crossover, the last
+    fallback before the relaxed program) answers a random feasible program at the cold simplex
+    method's optimum, with multipliers that pass the caller's independent check."""
     from setsmooth import tolerances as tol
-    from setsmooth.solvers.presolve import interior_cold
+    from setsmooth.solvers.interior_point import interior_point
 
     rng = np.random.default_rng(3)
     m, p = 20, 45
@@ -243,13 +242,37 @@ def test_the_interior_point_fallback_reaches_the_simplex_methods_optimum():
     for _ in range(4):
         q = rng.standard_normal(p)
         q[:3] = -(A[:, :3].T @ rng.standard_normal(m))  # bounded: q cancels on the free factors
-        name, eta, lam = interior_cold(pre, q)
+        name, eta, lam = interior_point(pre, q)
         assert name == "AlmostSolved"
         gap = pre.checked_gap(q, eta, lam)
         assert gap is not None and gap <= tol.ACCURATE_GAP_TOL
         reference = simplex_cold(pre, q)
         assert reference[0] == "AlmostSolved"
         assert abs(q @ eta - q @ reference[1]) <= 1e-8 * (1 + abs(q @ reference[1]))
+
+
+def test_the_interior_point_fallback_settles_where_every_simplex_basis_is_singular():
+    """Reliability case 184 at noise 1e3, smoothed set k = 25 (``data/singular_bases_program.npz``,
+    1,308 rows, 1,726 factors): along this direction HiGHS's dual simplex method meets a
+    rank-deficient basis from scratch, and the interior-point method with crossover fails in the
+    crossover. Without crossover it answers, and the caller's check accepts its gap."""
+    from setsmooth import tolerances as tol
+    from setsmooth.solvers.interior_point import interior_point
+
+    z = np.load(Path(__file__).parent / "data" / "singular_bases_program.npz")
+    A = sp.csc_matrix((z["data"], z["indices"], z["indptr"]), shape=tuple(z["shape"]))
+    m, p = A.shape
+    pre = Presolved(A=A, b=z["b"], rows=np.arange(m), cols=np.arange(p), row_scale=np.ones(m),
+                    col_scale=np.ones(p), bounded=z["bounded"], empty=False,
+                    dependent_checked=True)
+    q = z["q"]
+    cold = linprog(q, A_eq=A, b_eq=pre.b, bounds=np.where(pre.bounded[:, None], [[-1.0, 1.0]],
+                   [[-np.inf, np.inf]]), method="highs-ds")
+    assert cold.status != 0 or pre.checked_gap(q, cold.x, -cold.eqlin.marginals) is None
+    name, eta, lam = interior_point(pre, q)
+    assert name == "AlmostSolved"
+    gap = pre.checked_gap(q, eta, lam)
+    assert gap is not None and gap <= tol.ACCURATE_GAP_TOL
 
 
 def test_a_rungs_time_limit_counts_from_its_own_start(monkeypatch):
