@@ -306,3 +306,20 @@ def test_recursion_smoother_hull_where_the_simplex_method_meets_a_singular_basis
     unit = hi_x[8] - lo_x[8] + sigma
     assert np.all(np.abs(hull.lo - lo_x[8]) <= 1e-6 * unit)
     assert np.all(np.abs(hull.hi - hi_x[8]) <= 1e-6 * unit)
+
+
+def test_recursion_smoother_hull_where_every_simplex_basis_and_the_crossover_are_singular():
+    """Reliability case 184 at noise 1e3, smoothed set k = 25 (1,308 × 1,726 presolved): HiGHS's
+    simplex method met a rank-deficient basis on every rung, Clarabel stopped at 'AlmostSolved' or
+    'NumericalError', and the interior-point method's crossover failed, so the certified hull raised
+    `SolverError('AlmostSolved')`. HiGHS's interior-point method without crossover settles it
+    (`interior_point.interior_point`)."""
+    case = in_regime(base_case(2026, 184), "scale1e+03")
+    lo_x, hi_x = TrajectoryOracle(case.system, case.X0, case.ys).smoothed_hulls()
+    sigma = data_scale(case.system, case.X0)
+    hull = ss.optimal_smoother(case.system, case.X0, case.ys, method="recursion")[25].interval_hull()
+    unit = hi_x[25] - lo_x[25] + sigma
+    assert np.all(hull.lo <= lo_x[25] + 1e-9 * unit)  # certified: encloses the exact hull
+    assert np.all(hull.hi >= hi_x[25] - 1e-9 * unit)
+    assert np.all(np.abs(hull.lo - lo_x[25]) <= 1e-6 * unit)
+    assert np.all(np.abs(hull.hi - hi_x[25]) <= 1e-6 * unit)
