@@ -86,13 +86,14 @@ def independent_rows(A, b: np.ndarray, rtol: float = tol.RANK_TOL) -> RowBasis:
     R, piv = sla.qr(An.T, mode="r", pivoting=True)  # Q is not needed: half the cost
     pivots = np.abs(np.diag(R))
     rank = int(np.count_nonzero(pivots > rtol * max(An.shape) * pivots[0]))
-    keep_local = np.sort(piv[:rank])
-    keep = rows[keep_local]
-    dropped = np.setdiff1d(np.arange(rows.size), keep_local)
+    kept, dropped = piv[:rank], piv[rank:]
+    keep = rows[np.sort(kept)]
     if consistent and dropped.size:
-        # Coefficients y with An[kept]ᵀ y = An[dropped]ᵀ (least squares); consistent iff bn matches.
-        Y, *_ = np.linalg.lstsq(An[keep_local].T, An[dropped].T, rcond=None)
-        predicted = Y.T @ bn[keep_local]
-        scale = 1.0 + np.abs(Y.T) @ np.abs(bn[keep_local])
+        # Coefficients y with An[kept]ᵀ y = An[dropped]ᵀ in the least-squares sense: with
+        # An[piv]ᵀ = Q R, that is R₁₁ y = R₁₂, a triangular solve (SciPy's SVD-based lstsq of the
+        # same took 45 s of 172 on a 3,031 × 4,308 factor set of reliability case 149).
+        Y = sla.solve_triangular(R[:rank, :rank], R[:rank, rank:])
+        predicted = Y.T @ bn[kept]
+        scale = 1.0 + np.abs(Y.T) @ np.abs(bn[kept])
         consistent = bool(np.all(np.abs(predicted - bn[dropped]) <= np.sqrt(rtol) * scale))
     return RowBasis(keep, consistent)
