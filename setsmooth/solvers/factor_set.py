@@ -271,9 +271,9 @@ class FactorConstraints:
         'simplex' by HiGHS's simplex (`presolve.simplex`, warm-started; 'cold simplex':
         `presolve.simplex_cold`), the last resort on LPs where the interior-point method stops at
         reduced accuracy, and 'cold interior' HiGHS's interior-point method without crossover
-        (`interior_point.interior_point`)
-        after every other; their optima are reported as 'AlmostSolved' so that they go through
-        the same independent check as any answer not certified by Clarabel.
+        (`interior_point.interior_point`) after every other; their optima are reported as
+        'AlmostSolved' so that they go through the same independent check as any answer not
+        certified by Clarabel.
         """
         if refine == "simplex":
             return simplex(pre, q)

@@ -428,10 +428,6 @@ def _gap_or_inf(pre: Presolved, q: np.ndarray, answer: tuple) -> float:
 
 def simplex_cold(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
     """`simplex` by SciPy's ``linprog``, every objective from scratch (the reference)."""
-    return _cold(pre, q)
-
-
-def _cold(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
     m, p = pre.A.shape
     bounds = np.where(pre.bounded[:, None], [[-1.0, 1.0]], [[-np.inf, np.inf]])
     res = _highs_ladder(q, m + p, A_eq=pre.A if m else None, b_eq=pre.b if m else None,
