@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from .presolve import Presolved, _rung_iterations, rung_seconds
-from .warm_simplex import factor_model
+from .warm_simplex import factor_model, settled_point
 
 __all__ = ["interior_point"]
 
@@ -48,14 +48,11 @@ def interior_point(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.n
     h.setOptionValue("ipm_iteration_limit", _rung_iterations(m + p, False))
     h.setOptionValue("time_limit", rung_seconds(m + p))
     h.run()
+    point = settled_point(h)
+    if point is not None:
+        return ("AlmostSolved", *point)
     status = highspy.HighsModelStatus
     model_status = h.getModelStatus()
-    if model_status in (status.kOptimal, status.kUnknown):
-        sol = h.getSolution()
-        if sol.value_valid and sol.dual_valid:
-            # HiGHS's row duals are ∂(min)/∂b̂, i.e. q = Âᵀy + (bound duals): λ̂ = −y.
-            return ("AlmostSolved", np.array(sol.col_value, dtype=float),
-                    -np.array(sol.row_dual, dtype=float))
     names = {status.kInfeasible: "PrimalInfeasible", status.kUnbounded: "DualInfeasible",
              status.kUnboundedOrInfeasible: "DualInfeasible",
              status.kIterationLimit: "MaxIterations", status.kTimeLimit: "MaxIterations"}

@@ -27,7 +27,7 @@ import scipy.sparse as sp
 
 from .presolve import SIMPLEX_TOLERANCES, _rung_iterations, rung_seconds
 
-__all__ = ["WarmSimplex", "factor_model", "new_batch"]
+__all__ = ["WarmSimplex", "factor_model", "new_batch", "settled_point"]
 
 _UNSET = object()
 _DUAL, _PRIMAL = 1, 4  # HiGHS's simplex_strategy values
@@ -113,6 +113,23 @@ def factor_model(A: sp.spmatrix, b: np.ndarray, bounded: np.ndarray):
     lp.a_matrix_.num_col_, lp.a_matrix_.num_row_ = p, m
     h.passModel(lp)
     return h
+
+
+def settled_point(h) -> tuple[np.ndarray, np.ndarray] | None:
+    """(η, λ̂) of a ``highspy.Highs`` run that stopped at 'Optimal', or at 'Unknown' with a valid
+    primal and dual solution (an answer for the caller's independent check,
+    `presolve.Presolved.checked_gap`); None otherwise. λ̂ is in Clarabel's convention: HiGHS's row
+    duals y are ∂(min)/∂b̂, i.e. q = Âᵀy + (bound duals), so λ̂ = −y."""
+    import highspy
+
+    status = highspy.HighsModelStatus
+    model_status = h.getModelStatus()
+    if model_status not in (status.kOptimal, status.kUnknown):
+        return None
+    sol = h.getSolution()
+    if model_status != status.kOptimal and not (sol.value_valid and sol.dual_valid):
+        return None
+    return np.array(sol.col_value, dtype=float), -np.array(sol.row_dual, dtype=float)
 
 
 class WarmSimplex:
@@ -243,9 +260,8 @@ class WarmSimplex:
                 # unperturbed. On the program that hung, the unperturbed dual method settled the
                 # same objective in 2,191 iterations, 0.2 s.
                 perturbed = False
-            sol = h.getSolution() if model_status in (status.kOptimal, status.kUnknown) else None
-            if model_status == status.kOptimal or (sol is not None and sol.value_valid
-                                                   and sol.dual_valid):
+            point = settled_point(h)
+            if point is not None:
                 # 'Unknown' with a primal and dual solution: HiGHS stopped short of confirming
                 # optimality, often at the optimum (reliability case 184, k = 8: the primal
                 # method's 'Unknown' point had residual 3e-10 and the optimal value to 1e-12,
@@ -253,9 +269,7 @@ class WarmSimplex:
                 # caller's independent check (`Presolved.checked_gap`) decides either way.
                 self._warm = model_status == status.kOptimal  # a basis known primal feasible
                 self.answered_by_primal = primal
-                # HiGHS's row duals are ∂(min)/∂b̂, i.e. q = Âᵀy + (bound duals): λ̂ = −y.
-                return ("AlmostSolved", np.array(sol.col_value, dtype=float),
-                        -np.array(sol.row_dual, dtype=float))
+                return ("AlmostSolved", *point)
             if model_status == status.kInfeasible:
                 name = "PrimalInfeasible"
             elif model_status in (status.kUnbounded, status.kUnboundedOrInfeasible):
