@@ -44,7 +44,7 @@ from .clarabel_lp import SolverError, _csc, _index_type, _zero_cost, solve_lp
 from .instances import cached_instance
 from .interior_point import interior_point
 from .presolve import (Presolved, presolve, project_free, simplex, simplex_box_equalities,
-                       simplex_cold, simplex_inequalities)
+                       simplex_cold, simplex_inequalities, simplex_timed_out)
 
 __all__ = ["FactorConstraints", "Maximized", "STACK_MAX_VARIABLES", "DENSE_PRESOLVE_MAX"]
 
@@ -69,6 +69,18 @@ CHEAP_FREE_BOUND_MAX = 60
 #: the kept interior-point instance. ``benchmarks/bench_bracketed_order.py`` measures this order
 #: against the reverse one.
 BRACKETED_ATTEMPTS: tuple = ("simplex", False)
+
+#: The solves of a bracketed direction on a program whose factors are all bounded once the
+#: warm-started simplex method has run out of time on it (`presolve.rung_seconds`) in the current
+#: batch of queries (one support call, `warm_simplex.new_batch`): HiGHS's interior-point method
+#: without crossover first ('cold interior'), then as `BRACKETED_ATTEMPTS`. On the recursion
+#: smoother's flat sets (non-square D with fewer noise components than outputs, reliability case
+#: 029) the rows are inconsistent by rounding (phase-one residual 4e-10 at k = 0, 5,371 rows,
+#: 7,672 factors): the warm primal simplex method took 5-12 ms an iteration and ran into its
+#: 76 s limit on several directions of one hull (about 600 s for the hull), where the
+#: interior-point method reports the rows infeasible in 0.4 s and the phase-one verdict sends the
+#: direction to the relaxed program (`_relaxed`).
+AFTER_TIME_OUT_ATTEMPTS: tuple = ("cold interior", "simplex", False)
 
 #: The same on a program with free factors (the states of trajectory sets and posterior views):
 #: the interior-point method first. The simplex method's multipliers leave up to its dual
@@ -362,8 +374,9 @@ class FactorConstraints:
             # drops dependent rows, so it runs on the kept program; the fully presolved one is built
             # only if both fail (its dense rank-revealing QR was 72 % of the recursion smoother's
             # time on reliability case 029, CZ noises, 1000 × 1500 factor sets).
-            attempts = [(first, refine) for refine in
-                        (BRACKETED_ATTEMPTS_FREE if first.has_free else BRACKETED_ATTEMPTS)]
+            order = (BRACKETED_ATTEMPTS_FREE if first.has_free
+                     else AFTER_TIME_OUT_ATTEMPTS if simplex_timed_out(first) else BRACKETED_ATTEMPTS)
+            attempts = [(first, refine) for refine in order]
         else:
             attempts = [(first, False), (first, True)]
         if not first.dependent_checked:
@@ -373,7 +386,8 @@ class FactorConstraints:
         # Last, HiGHS's interior-point method: on reliability case 184 (k = 8) the simplex method
         # met a singular basis on every rung and Clarabel a 'NumericalError', where it settled;
         # without crossover, since at noise 1e3 (k = 25) the crossover's bases failed too.
-        attempts.append((first, "cold interior"))
+        if attempts[0][1] != "cold interior":  # (not already first: `AFTER_TIME_OUT_ATTEMPTS`)
+            attempts.append((first, "cold interior"))
         last = "Unknown"
         best: tuple[float, Maximized] | None = None  # the tightest verified reduced-accuracy answer
         rough: Maximized | None = None  # the last unverified one (for certificates only)

@@ -22,7 +22,7 @@ from collections import OrderedDict
 from collections.abc import Callable, Hashable
 from typing import TypeVar
 
-__all__ = ["MAX_INSTANCES", "cached_instance", "clear"]
+__all__ = ["MAX_INSTANCES", "cached_instance", "clear", "kept_instance"]
 
 T = TypeVar("T")
 
@@ -71,6 +71,15 @@ def cached_instance(owner: object, key: Hashable, build: Callable[[], T]) -> T:
     while len(cache) > MAX_INSTANCES:
         cache.popitem(last=False)
     return instance
+
+
+def kept_instance(owner: object, key: Hashable) -> object | None:
+    """This thread's instance for ``(owner, key)`` if it keeps one, else None (nothing is built,
+    and the cache's order is left as it is)."""
+    entry = _cache().get((id(owner), key))
+    if entry is None or entry[0]() is not owner:
+        return None
+    return entry[1]
 
 
 def clear() -> None:

@@ -40,7 +40,8 @@ from .. import tolerances as tol
 from ..linalg import independent_rows
 
 __all__ = ["Presolved", "presolve", "simplex", "simplex_cold", "simplex_inequalities",
-           "simplex_box_equalities", "project_free", "RUIZ_SWEEPS", "INDEPENDENT_RCOND"]
+           "simplex_timed_out", "simplex_box_equalities", "project_free", "RUIZ_SWEEPS",
+           "INDEPENDENT_RCOND"]
 
 #: Equilibration sweeps with free factors (each scales the free columns, then the rows holding only
 #: free factors, to unit ∞-norm); without free factors one row normalization is exact.
@@ -417,6 +418,15 @@ def simplex(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]
         if _gap_or_inf(pre, q, again) < gap or np.isinf(gap):
             answer = again
     return answer
+
+
+def simplex_timed_out(pre: Presolved) -> bool:
+    """Whether `simplex` ran out of time (`rung_seconds`) on ``pre`` in this thread's current batch
+    of queries (`warm_simplex.new_batch`); False when it has not been asked in this thread."""
+    from .instances import kept_instance
+
+    model = kept_instance(pre, "warm simplex")
+    return model is not None and model.timed_out_in_batch()
 
 
 def _gap_or_inf(pre: Presolved, q: np.ndarray, answer: tuple) -> float:

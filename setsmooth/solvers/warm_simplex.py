@@ -158,6 +158,7 @@ class WarmSimplex:
         self._columns = np.arange(p, dtype=np.int32)
         self._start = _UNSET  # the feasible basis, found when the first batch starts
         self._batch = None
+        self._timed_out_batch = None  # the batch in which a rung last ran out of time
         default = h.getOptionValue("simplex_scale_strategy")  # a (status, value) pair in recent highspy
         self._scaling = default[1] if isinstance(default, tuple) else default
         self._warm = False  # whether HiGHS holds a primal feasible basis (the primal method's start)
@@ -165,6 +166,13 @@ class WarmSimplex:
         #: the dual method again only then: a ladder that fell through to the cold dual rungs has
         #: had its dual answer, and repeating it doubled the time of a cycling program).
         self.answered_by_primal = False
+
+    def timed_out_in_batch(self) -> bool:
+        """Whether a rung of this model ran out of time (`presolve.rung_seconds`) in the current
+        batch of this thread (`new_batch`): the caller then asks another method first for the
+        batch's remaining objectives (`factor_set.AFTER_TIME_OUT_ATTEMPTS`)."""
+        return self._timed_out_batch is not None and \
+            self._timed_out_batch == getattr(_batches, "current", 0)
 
     def _set_rung(self, tolerance: float | None, cap: int, primal: bool = False,
                   perturbed: bool = True) -> None:
@@ -260,6 +268,7 @@ class WarmSimplex:
                 # unperturbed. On the program that hung, the unperturbed dual method settled the
                 # same objective in 2,191 iterations, 0.2 s.
                 perturbed = False
+                self._timed_out_batch = batch
             point = settled_point(h)
             if point is not None:
                 # 'Unknown' with a primal and dual solution: HiGHS stopped short of confirming

@@ -325,3 +325,45 @@ def test_after_a_rung_reaches_its_time_limit_the_dual_method_does_not_perturb_th
     assert name == "AlmostSolved"
     gap = pre.checked_gap(q, eta, lam)
     assert gap is not None and gap <= tol.ACCURATE_GAP_TOL
+
+
+def test_after_a_time_out_the_rest_of_the_batch_asks_the_interior_point_method_first(monkeypatch):
+    """A program on which the warm simplex method ran out of time gets the interior-point method
+    first for the remaining directions of that support call (`factor_set.AFTER_TIME_OUT_ATTEMPTS`;
+    reliability case 029, k = 0: 76 s limits reached on several directions of one hull), the same
+    values to the checks' accuracy, and the next call starts with the simplex method again."""
+    import setsmooth as ss
+    from setsmooth.solvers import factor_set, warm_simplex
+
+    rng = np.random.default_rng(29)
+    ng, nc = 40, 12
+    A = rng.standard_normal((nc, ng))
+    Z = ss.ConstrainedZonotope(rng.standard_normal((3, ng)), rng.standard_normal(3), A,
+                               A @ rng.uniform(-0.5, 0.5, ng))
+    D = np.vstack([np.eye(3), -np.eye(3)])
+    firsts: list = []  # the first solve of every direction
+    real_maximize, real_solve_on = factor_set.FactorConstraints.maximize, \
+        factor_set.FactorConstraints._solve_on
+
+    def maximize(self, *args, **kwargs):
+        firsts.append(None)
+        return real_maximize(self, *args, **kwargs)
+
+    def solve_on(self, pre, q, refine):
+        if firsts[-1] is None:
+            firsts[-1] = refine
+        return real_solve_on(self, pre, q, refine)
+
+    monkeypatch.setattr(factor_set.FactorConstraints, "maximize", maximize)
+    monkeypatch.setattr(factor_set.FactorConstraints, "_solve_on", solve_on)
+    reference = Z.support_many(D)  # the warm model and its feasible basis, with the real limits
+    assert firsts == ["simplex"] * 6  # the premise: the simplex method first, no time-out
+    limits = iter([0.0])  # the first direction's first rung stops at once
+    real_limit = warm_simplex.rung_seconds
+    monkeypatch.setattr(warm_simplex, "rung_seconds", lambda size: next(limits, real_limit(size)))
+    firsts.clear()
+    after_time_out, next_call = Z.support_many(D), Z.support_many(D)
+    assert firsts == ["simplex"] + ["cold interior"] * 5 + ["simplex"] * 6
+    width = reference[:3] + reference[3:]
+    for values in (after_time_out, next_call):
+        assert np.all(np.abs(values - reference) <= 1e-8 * np.tile(width, 2))
