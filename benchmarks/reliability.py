@@ -51,11 +51,13 @@ from tests.reliability.random_systems import REGIMES, base_case, in_regime, tria
 
 # -- tasks (module level: they go to worker processes) ------------------------------------------------
 def system_task(seed: int, index: int, with_witness: bool, T_range: tuple[int, int],
-                n_range: tuple[int, int], estimators: tuple[str, ...] = compare.ESTIMATORS):
-    """All regimes of system ``index``: (list of CaseResult or ('oracle', name, msg)), witness outcome."""
+                n_range: tuple[int, int], estimators: tuple[str, ...] = compare.ESTIMATORS,
+                regimes: tuple[str, ...] = REGIMES):
+    """The ``regimes`` (default all) of system ``index``: (list of CaseResult or ('oracle', name,
+    msg)), witness outcome."""
     base = base_case(seed, index, T_range=T_range, n_range=n_range)
     results = []
-    for regime in REGIMES:
+    for regime in regimes:
         case = in_regime(base, regime)
         try:
             results.append(compare.compare_case(case, estimators=estimators))
@@ -317,6 +319,9 @@ def main(argv=None) -> None:
     ap.add_argument("--estimators", default=",".join(compare.ESTIMATORS),
                     help="comma-separated subset of " + ", ".join(compare.ESTIMATORS) + " (default: all; "
                          "the recursion smoother dominates the time at T = 40)")
+    ap.add_argument("--regimes", default=",".join(REGIMES),
+                    help="comma-separated subset of " + ", ".join(REGIMES) + " (default: all; one "
+                         "process per regime runs a heavy system's regimes side by side)")
     ap.add_argument("--no-concurrency", action="store_true")
     ap.add_argument("--log", type=Path, default=None, metavar="FILE",
                     help="append one JSON line per finished case (and oracle failure) as it finishes")
@@ -357,6 +362,9 @@ def main(argv=None) -> None:
     if unknown or not (estimators or args.estimators.strip() == "none"):
         ap.error(f"--estimators must name some of {', '.join(compare.ESTIMATORS)} (or be 'none'), "
                  f"got {args.estimators!r}")
+    regimes = tuple(r.strip() for r in args.regimes.split(",") if r.strip())
+    if not regimes or any(r not in REGIMES for r in regimes):
+        ap.error(f"--regimes must name some of {', '.join(REGIMES)}, got {args.regimes!r}")
 
     t0 = time.perf_counter()
     case_results, oracle_failed, witnesses, rescaled, long_runs = [], [], [], [], []
@@ -371,7 +379,8 @@ def main(argv=None) -> None:
         for i in indices:
             if estimators:
                 futures[pool.submit(system_task, args.seed, i, i < args.witness,
-                                    tuple(args.T_range), tuple(args.n_range), estimators)] = "system"
+                                    tuple(args.T_range), tuple(args.n_range), estimators,
+                                    regimes)] = "system"
             elif i < args.witness:
                 futures[pool.submit(witness_task, args.seed, i, tuple(args.T_range),
                                     tuple(args.n_range))] = "witness"
@@ -425,7 +434,7 @@ def main(argv=None) -> None:
     if args.indices is not None:
         first = f" (indices {args.indices})"
     print(f"\n## setsmooth reliability: seed {args.seed}, {systems_done} systems{first} (T = {args.T_range[0]}.."
-          f"{args.T_range[1]}, n = {args.n_range[0]}..{args.n_range[1]}) × {len(REGIMES)} regimes × "
+          f"{args.T_range[1]}, n = {args.n_range[0]}..{args.n_range[1]}) × {len(regimes)} regimes × "
           f"{len(estimators)} estimators ({', '.join(estimators)}; {elapsed:.0f} s on {args.workers} workers)\n")
     print_system_tables(case_results, oracle_failed)
     if long_runs:
