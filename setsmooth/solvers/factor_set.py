@@ -77,9 +77,9 @@ BRACKETED_ATTEMPTS: tuple = ("simplex", False)
 #: smoother's flat sets (non-square D with fewer noise components than outputs, reliability case
 #: 029) the rows are inconsistent by rounding (phase-one residual 4e-10 at k = 0, 5,371 rows,
 #: 7,672 factors): the warm primal simplex method took 5-12 ms an iteration and ran into its
-#: 76 s limit on several directions of one hull (about 600 s for the hull), where the
-#: interior-point method reports the rows infeasible in 0.4 s and the phase-one verdict sends the
-#: direction to the relaxed program (`_relaxed`).
+#: 76 s limit on several directions of one hull (505 s of solves; 271 s with this order), where
+#: the interior-point method reports the rows infeasible in 0.4 s and the phase-one verdict sends
+#: the direction to the relaxed program (`_relaxed`).
 AFTER_TIME_OUT_ATTEMPTS: tuple = ("cold interior", "simplex", False)
 
 #: The same on a program with free factors (the states of trajectory sets and posterior views):
@@ -336,7 +336,9 @@ class FactorConstraints:
             loose (`CZProgram._verified`): on a program whose factors are all bounded the
             warm-started simplex method answers first, and the kept interior-point instance
             (without its refined re-solve) only if the simplex method does not settle; with free
-            factors the reverse (`BRACKETED_ATTEMPTS`, `BRACKETED_ATTEMPTS_FREE`). On degenerate
+            factors the reverse (`BRACKETED_ATTEMPTS`, `BRACKETED_ATTEMPTS_FREE`); once the simplex
+            method has run out of time in this support call, the interior-point method without
+            crossover first (`AFTER_TIME_OUT_ATTEMPTS`). On degenerate
             programs (the recursion smoother's sets: copies of the posterior factors linked by the
             states) the interior-point method stalls at 'AlmostSolved' with duals off by ~1e-6 on
             half the directions and the refined solve stalls at the same point. (Returning the

@@ -13,7 +13,8 @@ each; from the last optimum the primal method takes ~80.
 The tolerance ladder is `presolve.SIMPLEX_TOLERANCES`, each rung capped and timed as there
 (`presolve._rung_iterations`, `presolve.rung_seconds`); a rung that does not settle is dropped
 with its basis (``clearSolver``), so the next, looser rung starts cold and cannot inherit a cycling
-basis, and after a rung that ran out of time the dual method no longer perturbs the costs.
+basis, and after a rung that ran out of time the dual method no longer perturbs the costs (and
+the caller asks the interior-point method first for the rest of the batch, `timed_out_in_batch`).
 """
 
 from __future__ import annotations
