@@ -7,8 +7,9 @@ are nearly singular, and all of them fail together. On the smoothed set k = 25 o
 184 at noise 1e3 (1,308 rows, 1,726 factors), for 12 support directions solved from scratch: the
 dual simplex method met a rank-deficient basis on all 12, the interior-point method's crossover
 ended at an optimal vertex on 2, and without crossover all 12 passed the caller's independent
-check (`Presolved.checked_gap`) with relative duality gaps of 1.7e-11 to 1.6e-10, in 0.6-0.8 s each. The interior solution is not a vertex; the
-support value and the multipliers are what the callers use, and the check judges them.
+check (`Presolved.checked_gap`) with relative duality gaps of 1.7e-11 to 1.6e-10, in 0.6-0.8 s
+each. The interior solution is not a vertex; the support value and the multipliers are what the
+callers use, and the check judges them.
 """
 
 from __future__ import annotations

@@ -395,6 +395,10 @@ def _col_abs_max(M: sp.csc_matrix) -> np.ndarray:
     return out
 
 
+#: The key of a program's warm model (`warm_simplex.WarmSimplex`) in the per-thread instance cache.
+WARM_MODEL_KEY = "warm simplex"
+
+
 def simplex(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
     """min qᵀη over the presolved program by HiGHS's simplex method: (status name, η, λ̂ in
     Clarabel's sign convention q + Âᵀλ̂ = 0 on the free factors).
@@ -409,7 +413,7 @@ def simplex(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]
     from .instances import cached_instance
     from .warm_simplex import WarmSimplex
 
-    model = cached_instance(pre, "warm simplex", lambda: WarmSimplex(pre.A, pre.b, pre.bounded))
+    model = cached_instance(pre, WARM_MODEL_KEY, lambda: WarmSimplex(pre.A, pre.b, pre.bounded))
     caps = _rung_caps(sum(pre.A.shape), len(SIMPLEX_TOLERANCES))
     answer = model.minimize(q, SIMPLEX_TOLERANCES, caps)
     gap = _gap_or_inf(pre, q, answer)
@@ -425,7 +429,7 @@ def simplex_timed_out(pre: Presolved) -> bool:
     of queries (`warm_simplex.new_batch`); False when it has not been asked in this thread."""
     from .instances import kept_instance
 
-    model = kept_instance(pre, "warm simplex")
+    model = kept_instance(pre, WARM_MODEL_KEY)
     return model is not None and model.timed_out_in_batch()
 
 

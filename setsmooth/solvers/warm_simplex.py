@@ -172,8 +172,7 @@ class WarmSimplex:
         """Whether a rung of this model ran out of time (`presolve.rung_seconds`) in the current
         batch of this thread (`new_batch`): the caller then asks another method first for the
         batch's remaining objectives (`factor_set.AFTER_TIME_OUT_ATTEMPTS`)."""
-        return self._timed_out_batch is not None and \
-            self._timed_out_batch == getattr(_batches, "current", 0)
+        return self._timed_out_batch == getattr(_batches, "current", 0)
 
     def _set_rung(self, tolerance: float | None, cap: int, primal: bool = False,
                   perturbed: bool = True) -> None:

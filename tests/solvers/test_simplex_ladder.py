@@ -108,7 +108,7 @@ def test_the_warm_started_simplex_agrees_with_cold_solves_over_many_objectives()
         assert gap is not None and gap <= tol.ACCURATE_GAP_TOL
         if pre.checked_gap(q, cold[1], cold[2]) is not None:
             assert abs(q @ warm[1] - q @ cold[1]) <= 1e-6 * (1 + abs(q @ cold[1]))
-        model = cached_instance(pre, "warm simplex", lambda: None)
+        model = cached_instance(pre, presolve_module.WARM_MODEL_KEY, lambda: None)
         assert model._h.getInfo().simplex_iteration_count <= 20 * size + 1000
 
 
@@ -291,7 +291,7 @@ def test_a_rungs_time_limit_counts_from_its_own_start(monkeypatch):
         new_batch()  # each objective from the program's feasible basis: ~5 ms of HiGHS's time
         q = rng.standard_normal(q0.size)
         assert simplex(pre, q)[0] == "AlmostSolved"  # a rung that stopped at once: 'MaxIterations'
-    model = cached_instance(pre, "warm simplex", lambda: None)
+    model = cached_instance(pre, presolve_module.WARM_MODEL_KEY, lambda: None)
     assert model._h.getRunTime() > 0.3  # the premise: the solves summed to over twice the limit
 
 
