@@ -27,7 +27,9 @@ bounded whatever the data, so an interior-point method settles it even on flat o
 the set is empty iff t* > ``EMPTINESS_TOL`` in the equilibrated units (every presolved row has unit
 ∞-norm and every bounded factor unit bound). A support LP that reports infeasibility on a set this
 program calls non-empty is solved on the set relaxed by t* (``|Âη − b̂| ≤ t* + EMPTINESS_TOL``), an
-outer value, so the two verdicts never contradict each other.
+outer value, so the two verdicts never contradict each other. Such a set's rows are inconsistent by
+rounding: the later bracketed and escalated directions on it (`CZProgram`'s) go to the relaxed
+program directly.
 """
 
 from __future__ import annotations
@@ -146,6 +148,9 @@ class FactorConstraints:
         self._pre: Presolved | None = None
         self._pre_full: Presolved | None = None
         self._free_bound: tuple[float | None] | None = None
+        #: Set when a support LP on the exact rows was infeasible on a set the phase-one program
+        #: calls non-empty (`_relaxed`): the stored rows are inconsistent by rounding.
+        self._rows_inconsistent = False
 
     @property
     def _nan(self) -> tuple[np.ndarray, np.ndarray]:
@@ -338,10 +343,13 @@ class FactorConstraints:
             (without its refined re-solve) only if the simplex method does not settle; with free
             factors the reverse (`BRACKETED_ATTEMPTS`, `BRACKETED_ATTEMPTS_FREE`); once the simplex
             method has run out of time in this support call, the interior-point method without
-            crossover first (`AFTER_TIME_OUT_ATTEMPTS`). On degenerate
-            programs (the recursion smoother's sets: copies of the posterior factors linked by the
-            states) the interior-point method stalls at 'AlmostSolved' with duals off by ~1e-6 on
-            half the directions and the refined solve stalls at the same point. (Returning the
+            crossover first (`AFTER_TIME_OUT_ATTEMPTS`), and the simplex method is not run again on
+            a copy of the same rows. Once a direction was answered on the relaxed program (the
+            rows inconsistent by rounding), later bracketed and escalated ones go there directly
+            (reliability case 029, k = 0: one hull's solves 505 s before, 107 s with both). On
+            degenerate programs (the recursion smoother's sets: copies of the posterior factors
+            linked by the states) the interior-point method stalls at 'AlmostSolved' with duals
+            off by ~1e-6 on half the directions and the refined solve stalls at the same point. (Returning the
             rough answer for the bracket to judge is not enough: the bracket's rounding floor,
             2⁻⁴⁰ of the values' magnitude, lets a loose dual through at offset 1e6, certified
             hulls 1.3e-6 off.)
@@ -357,6 +365,11 @@ class FactorConstraints:
         else:
             magnitude = np.abs(g)
         first = self.presolved
+        if self._rows_inconsistent and (bracketed or escalate) and not first.has_free:
+            # The exact rows are known to be inconsistent by rounding (an earlier direction was
+            # infeasible on them): every solve on them reports infeasibility or runs into its time
+            # limit, and the answer is the relaxed program's anyway.
+            return self._relaxed_direction(first, g)
         if escalate:
             # The simplex method first: a vertex and exact-to-rounding multipliers, where the
             # interior-point method stopped with a loose dual (badly scaled free factors).
@@ -399,8 +412,11 @@ class FactorConstraints:
             if planned is None:
                 # An attempt skipped as a repeat must not leave `pre` empty-handed (reliability
                 # case 018: the relaxed last resort was handed None after a skipped attempt).
-                planned = (self._fully_presolved_if_new(first) if refine is True
-                           else self.fully_presolved)
+                # The simplex method on the fully presolved program only when it differs from
+                # `first` or the simplex method has not run out of time on `first` in this batch
+                # (reliability case 029, k = 0: a second 81 s time-out on the same rows).
+                planned = (self._fully_presolved_if_new(first)
+                           if refine is True or simplex_timed_out(first) else self.fully_presolved)
                 if planned is None:
                     continue
             pre = planned
@@ -478,6 +494,12 @@ class FactorConstraints:
             return self._relaxed(pre, q, sigma, lam0)
         raise SolverError(last, context, kind=kind)
 
+    def _relaxed_direction(self, pre: Presolved, g: np.ndarray) -> Maximized:
+        """`_relaxed` for the objective g on the original factors (scaled as `maximize` does)."""
+        ghat = pre.objective(g[None, :])[0]
+        sigma = float(np.abs(ghat).max(initial=0.0)) or 1.0
+        return self._relaxed(pre, -ghat / sigma, sigma, np.zeros(pre.A.shape[0]))
+
     def _relaxed(self, pre: Presolved, q: np.ndarray, sigma: float,
                  lam0: np.ndarray) -> Maximized:
         """Maximize over {η : |Âη − b̂| ≤ ρ, |η_B| ≤ 1} with ρ the phase-one residual plus
@@ -502,6 +524,7 @@ class FactorConstraints:
             fallback, x, z = simplex_inequalities(q, rows, r)
             if fallback != "optimal":
                 raise SolverError(name, context, kind="support")
+        self._rows_inconsistent = True
         lam_hat = z[:m] - z[m:2 * m] + lam0  # Âᵀ(z⁺ − z⁻) cancels the objective as Âᵀλ̂ would
         return Maximized("relaxed", pre.factors(x[None, :], self.ng)[0],
                          pre.multipliers(lam_hat[None], np.array([sigma]), self.nc)[0])

@@ -367,3 +367,39 @@ def test_after_a_time_out_the_rest_of_the_batch_asks_the_interior_point_method_f
     width = reference[:3] + reference[3:]
     for values in (after_time_out, next_call):
         assert np.all(np.abs(values - reference) <= 1e-8 * np.tile(width, 2))
+
+
+def test_after_a_time_out_the_simplex_method_is_not_repeated_on_the_same_rows(monkeypatch):
+    """On a program too large for the dense dependent-row check, the "fully presolved" fallback
+    has the same rows as the first program. After the warm simplex method ran out of time on the
+    first program in this support call, it is not run again on that copy (reliability case 029,
+    k = 0: a second 81 s time-out on the first direction); the interior-point method answers."""
+    import setsmooth as ss
+    from setsmooth.solvers import factor_set, warm_simplex
+
+    monkeypatch.setattr(factor_set, "DENSE_PRESOLVE_MAX", 0)  # dependent rows not looked for
+    rng = np.random.default_rng(29)
+    ng, nc = 40, 12
+    A = rng.standard_normal((nc, ng))
+    Z = ss.ConstrainedZonotope(rng.standard_normal((3, ng)), rng.standard_normal(3), A,
+                               A @ rng.uniform(-0.5, 0.5, ng))
+    D = np.vstack([np.eye(3), -np.eye(3)])
+    reference = Z.support_many(D)
+    Z = ss.ConstrainedZonotope(Z.G, Z.c, Z.A, Z.b)  # a fresh factor set
+    calls: list = []
+    real_solve_on = factor_set.FactorConstraints._solve_on
+
+    def solve_on(self, pre, q, refine):
+        name, eta, z = real_solve_on(self, pre, q, refine)
+        calls.append((pre is self.presolved, refine))
+        if refine is False:  # the kept interior-point instance does not settle either
+            name = "InsufficientProgress"
+        return name, eta, z
+
+    monkeypatch.setattr(factor_set.FactorConstraints, "_solve_on", solve_on)
+    monkeypatch.setattr(warm_simplex, "rung_seconds", lambda size: 0.0)  # every rung times out
+    values = Z.support_many(D)
+    assert calls[:3] == [(True, "simplex"), (True, False), (True, "cold interior")]
+    assert all(on_first for on_first, _ in calls)  # the copy of the rows is never solved
+    width = reference[:3] + reference[3:]
+    assert np.all(np.abs(values - reference) <= 1e-8 * np.tile(width, 2))

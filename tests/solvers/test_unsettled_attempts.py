@@ -116,3 +116,36 @@ def test_a_bracketed_direction_is_answered_on_the_kept_program_without_the_dense
     assert abs(g @ answer.xi - _exact_max(A, A @ xi0, g)) <= 1e-7
     assert solves == ([(True, "simplex")] if simplex_settles else [(True, "simplex"), (True, False)])
     assert not factorizations  # before 1695486: the fully presolved program was built first
+
+
+def test_once_the_exact_rows_are_found_inconsistent_later_bracketed_directions_go_relaxed(
+        monkeypatch):
+    """Reliability case 029 (non-square D, fewer noise components than outputs): the recursion
+    smoother's flat sets have rows inconsistent by rounding, on which every solve of the exact rows
+    reports infeasibility or runs into its time limit (76 s a direction) before the relaxed program
+    answers. Once one direction has been sent to the relaxed program, the later bracketed and
+    escalated directions of the same factor set go there directly; other callers still try the exact
+    rows first."""
+    F, A, xi0 = _strip(seed=7)
+    calls = []
+
+    def infeasible(self, pre, q, refine):
+        calls.append(refine)
+        return "PrimalInfeasible", np.full(pre.A.shape[1], np.nan), np.full(pre.A.shape[0], np.nan)
+
+    monkeypatch.setattr(FactorConstraints, "_solve_on", infeasible)
+    rng = np.random.default_rng(0)
+    g = rng.standard_normal(A.shape[1])
+    first = F.maximize(g, "test", bracketed=True)
+    assert first.status == "relaxed" and calls  # the exact rows were tried first
+    assert g @ first.xi >= _exact_max(A, A @ xi0, g) - 1e-7
+    for kwargs in ({"bracketed": True}, {"escalate": True}):
+        calls.clear()
+        d = rng.standard_normal(A.shape[1])
+        answer = F.maximize(d, "test", **kwargs)
+        assert calls == []  # straight to the relaxed program
+        assert answer.status == "relaxed"
+        assert d @ answer.xi >= _exact_max(A, A @ xi0, d) - 1e-7
+        assert abs(d @ answer.xi - _exact_max(A, A @ xi0, d)) <= 1e-6 * np.abs(d).sum()
+    calls.clear()
+    assert F.maximize(g, "test").status == "relaxed" and calls  # unbracketed: exact rows first
