@@ -28,8 +28,8 @@ the set is empty iff t* > ``EMPTINESS_TOL`` in the equilibrated units (every pre
 ∞-norm and every bounded factor unit bound). A support LP that reports infeasibility on a set this
 program calls non-empty is solved on the set relaxed by t* (``|Âη − b̂| ≤ t* + EMPTINESS_TOL``), an
 outer value, so the two verdicts never contradict each other. Such a set's rows are inconsistent by
-rounding: the later bracketed and escalated directions on it (`CZProgram`'s) go to the relaxed
-program directly.
+rounding: where the warm simplex method has also run out of time on them, the later bracketed and
+escalated directions (`CZProgram`'s) go to the relaxed program directly.
 """
 
 from __future__ import annotations
@@ -148,8 +148,9 @@ class FactorConstraints:
         self._pre: Presolved | None = None
         self._pre_full: Presolved | None = None
         self._free_bound: tuple[float | None] | None = None
-        #: Set when a support LP on the exact rows was infeasible on a set the phase-one program
-        #: calls non-empty (`_relaxed`): the stored rows are inconsistent by rounding.
+        #: Set when a support LP on the exact rows was answered by the relaxed program (`_relaxed`)
+        #: after the warm simplex method ran out of time on them: the stored rows are inconsistent
+        #: by rounding, and solving them again is costly.
         self._rows_inconsistent = False
 
     @property
@@ -344,8 +345,8 @@ class FactorConstraints:
             factors the reverse (`BRACKETED_ATTEMPTS`, `BRACKETED_ATTEMPTS_FREE`); once the simplex
             method has run out of time in this support call, the interior-point method without
             crossover first (`AFTER_TIME_OUT_ATTEMPTS`), and the simplex method is not run again on
-            a copy of the same rows. Once a direction was answered on the relaxed program (the
-            rows inconsistent by rounding), later bracketed and escalated ones go there directly
+            a copy of the same rows; once a direction was then answered on the relaxed program
+            (the rows inconsistent by rounding), later bracketed and escalated ones go there directly
             (reliability case 029, k = 0: one hull's solves 505 s before, 107 s with both). On
             degenerate programs (the recursion smoother's sets: copies of the posterior factors
             linked by the states) the interior-point method stalls at 'AlmostSolved' with duals
@@ -524,7 +525,10 @@ class FactorConstraints:
             fallback, x, z = simplex_inequalities(q, rows, r)
             if fallback != "optimal":
                 raise SolverError(name, context, kind="support")
-        self._rows_inconsistent = True
+        if simplex_timed_out(self.presolved):
+            # Only where solving the exact rows is costly: a set on which the warm simplex method
+            # has run out of time in this batch (the shortcut changes no other program's answers).
+            self._rows_inconsistent = True
         lam_hat = z[:m] - z[m:2 * m] + lam0  # Âᵀ(z⁺ − z⁻) cancels the objective as Âᵀλ̂ would
         return Maximized("relaxed", pre.factors(x[None, :], self.ng)[0],
                          pre.multipliers(lam_hat[None], np.array([sigma]), self.nc)[0])

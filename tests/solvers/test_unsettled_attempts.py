@@ -123,9 +123,11 @@ def test_once_the_exact_rows_are_found_inconsistent_later_bracketed_directions_g
     """Reliability case 029 (non-square D, fewer noise components than outputs): the recursion
     smoother's flat sets have rows inconsistent by rounding, on which every solve of the exact rows
     reports infeasibility or runs into its time limit (76 s a direction) before the relaxed program
-    answers. Once one direction has been sent to the relaxed program, the later bracketed and
-    escalated directions of the same factor set go there directly; other callers still try the exact
-    rows first."""
+    answers. Once one direction has been sent to the relaxed program after such a time-out, the
+    later bracketed and escalated directions of the same factor set go there directly; other
+    callers still try the exact rows first, and without a time-out nothing changes."""
+    timed_out = [False]
+    monkeypatch.setattr(factor_set, "simplex_timed_out", lambda pre: timed_out[0])
     F, A, xi0 = _strip(seed=7)
     calls = []
 
@@ -136,6 +138,10 @@ def test_once_the_exact_rows_are_found_inconsistent_later_bracketed_directions_g
     monkeypatch.setattr(FactorConstraints, "_solve_on", infeasible)
     rng = np.random.default_rng(0)
     g = rng.standard_normal(A.shape[1])
+    for _ in range(2):  # no time-out: every direction tries the exact rows first
+        calls.clear()
+        assert F.maximize(g, "test", bracketed=True).status == "relaxed" and calls
+    timed_out[0] = True
     first = F.maximize(g, "test", bracketed=True)
     assert first.status == "relaxed" and calls  # the exact rows were tried first
     assert g @ first.xi >= _exact_max(A, A @ xi0, g) - 1e-7
