@@ -221,7 +221,10 @@ class CZProgram:
         bracketed = not escalate and (self.factors.free.size == 0
                                       or self.factors.free_bound() is not None)
         start = time.perf_counter()
-        new_batch()  # the simplex method's answers depend on this call alone (`warm_simplex`)
+        if not escalate:
+            # The simplex method's answers depend on this call alone (`warm_simplex`); the
+            # escalation of its loose brackets (`_verified`) belongs to the same call and batch.
+            new_batch()
         try:
             for i in range(k):
                 res = self.factors.maximize(GtD[i], context, magnitude=magnitude[i],

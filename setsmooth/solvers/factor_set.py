@@ -29,7 +29,8 @@ the set is empty iff t* > ``EMPTINESS_TOL`` in the equilibrated units (every pre
 program calls non-empty is solved on the set relaxed by t* (``|Âη − b̂| ≤ t* + EMPTINESS_TOL``), an
 outer value, so the two verdicts never contradict each other. Such a set's rows are inconsistent by
 rounding: where the warm simplex method has also run out of time on them, the later bracketed and
-escalated directions (`CZProgram`'s) go to the relaxed program directly.
+escalated directions of the same support call (`CZProgram`'s batch) go to the relaxed program
+directly.
 """
 
 from __future__ import annotations
@@ -47,6 +48,7 @@ from .instances import cached_instance
 from .interior_point import interior_point
 from .presolve import (Presolved, presolve, project_free, simplex, simplex_box_equalities,
                        simplex_cold, simplex_inequalities, simplex_timed_out)
+from .warm_simplex import current_batch
 
 __all__ = ["FactorConstraints", "Maximized", "STACK_MAX_VARIABLES", "DENSE_PRESOLVE_MAX"]
 
@@ -127,6 +129,14 @@ class FactorConstraints:
     thread by `instances.cached_instance`).
     """
 
+    #: The batch of queries (`warm_simplex.current_batch`, one `CZProgram` support call with its
+    #: escalation) in which a support LP on the exact rows was reported infeasible after the warm
+    #: simplex method had run out of time on them, and the relaxed program answered (`_relaxed`):
+    #: the stored rows are inconsistent by rounding and costly to solve, and the batch's later
+    #: bracketed and escalated directions go to the relaxed program directly. (A class default, so
+    #: that factor sets pickled before it existed still load.)
+    _relaxed_batch: int | None = None
+
     def __init__(self, A, b: np.ndarray, h: np.ndarray, slack: np.ndarray | None = None,
                  slack_free: np.ndarray | None = None):
         self.A = _csc(A)  # canonical (sorted, unique row indices): the presolve scales its arrays
@@ -148,10 +158,6 @@ class FactorConstraints:
         self._pre: Presolved | None = None
         self._pre_full: Presolved | None = None
         self._free_bound: tuple[float | None] | None = None
-        #: Set when a support LP on the exact rows was answered by the relaxed program (`_relaxed`)
-        #: after the warm simplex method ran out of time on them: the stored rows are inconsistent
-        #: by rounding, and solving them again is costly.
-        self._rows_inconsistent = False
 
     @property
     def _nan(self) -> tuple[np.ndarray, np.ndarray]:
@@ -345,15 +351,16 @@ class FactorConstraints:
             factors the reverse (`BRACKETED_ATTEMPTS`, `BRACKETED_ATTEMPTS_FREE`); once the simplex
             method has run out of time in this support call, the interior-point method without
             crossover first (`AFTER_TIME_OUT_ATTEMPTS`), and the simplex method is not run again on
-            a copy of the same rows; once a direction was then answered on the relaxed program
-            (the rows inconsistent by rounding), later bracketed and escalated ones go there directly
-            (reliability case 029, k = 0: one hull's solves 505 s before, 107 s with both). On
-            degenerate programs (the recursion smoother's sets: copies of the posterior factors
-            linked by the states) the interior-point method stalls at 'AlmostSolved' with duals
-            off by ~1e-6 on half the directions and the refined solve stalls at the same point. (Returning the
-            rough answer for the bracket to judge is not enough: the bracket's rounding floor,
-            2⁻⁴⁰ of the values' magnitude, lets a loose dual through at offset 1e6, certified
-            hulls 1.3e-6 off.)
+            a copy of the same rows; once a direction's exact rows were then reported infeasible
+            and the relaxed program answered it (rows inconsistent by rounding), the call's later
+            bracketed and escalated directions go there directly (`_relaxed_batch`; reliability
+            case 029, k = 0: one hull's solves 505 s before, 107 s with both). On degenerate
+            programs (the recursion smoother's sets: copies of the posterior factors linked by
+            the states) the interior-point method stalls at 'AlmostSolved' with duals off by
+            ~1e-6 on half the directions and the refined solve stalls at the same point.
+            (Returning the rough answer for the bracket to judge is not enough: the bracket's
+            rounding floor, 2⁻⁴⁰ of the values' magnitude, lets a loose dual through at offset
+            1e6, certified hulls 1.3e-6 off.)
 
         Raises
         ------
@@ -366,10 +373,12 @@ class FactorConstraints:
         else:
             magnitude = np.abs(g)
         first = self.presolved
-        if self._rows_inconsistent and (bracketed or escalate) and not first.has_free:
-            # The exact rows are known to be inconsistent by rounding (an earlier direction was
-            # infeasible on them): every solve on them reports infeasibility or runs into its time
-            # limit, and the answer is the relaxed program's anyway.
+        if (bracketed or escalate) and not first.has_free \
+                and self._relaxed_batch == current_batch():
+            # An earlier direction of this batch found the exact rows infeasible, after the warm
+            # simplex method ran out of time on them, on a set the phase-one program calls
+            # non-empty: the rows are inconsistent by rounding (reliability case 029), and that
+            # direction's answer was the relaxed program's.
             return self._relaxed_direction(first, g)
         if escalate:
             # The simplex method first: a vertex and exact-to-rounding multipliers, where the
@@ -404,6 +413,8 @@ class FactorConstraints:
         # without crossover, since at noise 1e3 (k = 25) the crossover's bases failed too.
         if attempts[0][1] != "cold interior":  # (not already first: `AFTER_TIME_OUT_ATTEMPTS`)
             attempts.append((first, "cold interior"))
+        simplex_on_first = any(planned is first and refine == "simplex"
+                               for planned, refine in attempts)
         last = "Unknown"
         best: tuple[float, Maximized] | None = None  # the tightest verified reduced-accuracy answer
         rough: Maximized | None = None  # the last unverified one (for certificates only)
@@ -413,11 +424,12 @@ class FactorConstraints:
             if planned is None:
                 # An attempt skipped as a repeat must not leave `pre` empty-handed (reliability
                 # case 018: the relaxed last resort was handed None after a skipped attempt).
-                # The simplex method on the fully presolved program only when it differs from
-                # `first` or the simplex method has not run out of time on `first` in this batch
-                # (reliability case 029, k = 0: a second 81 s time-out on the same rows).
-                planned = (self._fully_presolved_if_new(first)
-                           if refine is True or simplex_timed_out(first) else self.fully_presolved)
+                # The simplex method is not run on a copy of `first`'s rows after it ran on `first`
+                # for this direction and ran out of time there in this batch (reliability case 029,
+                # k = 0: a second 81 s time-out on the first direction).
+                repeat = refine == "simplex" and simplex_on_first and simplex_timed_out(first)
+                planned = (self._fully_presolved_if_new(first) if refine is True or repeat
+                           else self.fully_presolved)
                 if planned is None:
                     continue
             pre = planned
@@ -440,7 +452,7 @@ class FactorConstraints:
             if name in _INFEASIBLE:
                 if self.is_empty():
                     return Maximized("infeasible", nan_xi, nan_lam)
-                return self._relaxed(pre, q, sigma, lam0)
+                return self._relaxed(pre, q, sigma, lam0, infeasible=True)
             leak = pre.free_residual(q, z)
             if name == "Solved" and refine is False and leak > (
                     tol.CERTIFICATE_LEAK_TOL if tight else tol.REDUCED_COST_TOL):
@@ -468,7 +480,7 @@ class FactorConstraints:
                 if name in _INFEASIBLE:
                     if self.is_empty():
                         return Maximized("infeasible", nan_xi, nan_lam)
-                    return self._relaxed(pre, q, sigma, lam0)
+                    return self._relaxed(pre, q, sigma, lam0, infeasible=True)
                 leak = pre.free_residual(q, z)
             gap = None
             if leak <= tol.REDUCED_COST_TOL and name in ("Solved", "AlmostSolved"):
@@ -502,9 +514,13 @@ class FactorConstraints:
         return self._relaxed(pre, -ghat / sigma, sigma, np.zeros(pre.A.shape[0]))
 
     def _relaxed(self, pre: Presolved, q: np.ndarray, sigma: float,
-                 lam0: np.ndarray) -> Maximized:
+                 lam0: np.ndarray, infeasible: bool = False) -> Maximized:
         """Maximize over {η : |Âη − b̂| ≤ ρ, |η_B| ≤ 1} with ρ the phase-one residual plus
-        ``EMPTINESS_TOL``: the outer value for a set the phase-one program calls non-empty."""
+        ``EMPTINESS_TOL``: the outer value for a set the phase-one program calls non-empty.
+
+        ``infeasible``: a solver reported the exact rows infeasible (not merely unsettled); if the
+        warm simplex method has also run out of time on them in this batch, the batch's later
+        bracketed and escalated directions come here directly (`_relaxed_batch`)."""
         m, p = pre.A.shape
         rho = max(self._phase_one or 0.0, 0.0) + tol.EMPTINESS_TOL * (1.0 + np.abs(pre.b).max(
             initial=0.0))
@@ -525,10 +541,10 @@ class FactorConstraints:
             fallback, x, z = simplex_inequalities(q, rows, r)
             if fallback != "optimal":
                 raise SolverError(name, context, kind="support")
-        if simplex_timed_out(self.presolved):
-            # Only where solving the exact rows is costly: a set on which the warm simplex method
-            # has run out of time in this batch (the shortcut changes no other program's answers).
-            self._rows_inconsistent = True
+        if infeasible and simplex_timed_out(self.presolved):
+            # Only where solving the exact rows is costly (a time-out of 32 s or more): programs
+            # without one are solved as before.
+            self._relaxed_batch = current_batch()
         lam_hat = z[:m] - z[m:2 * m] + lam0  # Âᵀ(z⁺ − z⁻) cancels the objective as Âᵀλ̂ would
         return Maximized("relaxed", pre.factors(x[None, :], self.ng)[0],
                          pre.multipliers(lam_hat[None], np.array([sigma]), self.nc)[0])

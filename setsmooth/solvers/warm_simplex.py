@@ -19,6 +19,7 @@ the caller asks the interior-point method first for the rest of the batch, `time
 
 from __future__ import annotations
 
+import itertools
 import os
 import sys
 import threading
@@ -28,7 +29,7 @@ import scipy.sparse as sp
 
 from .presolve import SIMPLEX_TOLERANCES, _rung_iterations, rung_seconds
 
-__all__ = ["WarmSimplex", "factor_model", "new_batch", "settled_point"]
+__all__ = ["WarmSimplex", "current_batch", "factor_model", "new_batch", "settled_point"]
 
 _UNSET = object()
 _DUAL, _PRIMAL = 1, 4  # HiGHS's simplex_strategy values
@@ -43,6 +44,15 @@ WARM_STRATEGY = _PRIMAL
 FEASIBLE_BASIS_SCALINGS = (0, None)
 
 _batches = threading.local()
+_batch_ids = itertools.count(1)  # batch ids unique across threads (next() is atomic under the GIL)
+
+
+def current_batch() -> int:
+    """This thread's current batch (`new_batch`): an id no other batch of any thread shares."""
+    batch = getattr(_batches, "current", None)
+    if batch is None:
+        batch = _batches.current = next(_batch_ids)
+    return batch
 
 
 def new_batch() -> None:
@@ -57,7 +67,7 @@ def new_batch() -> None:
     from the serial run by 1e-15 of a hull. Starting every objective from the feasible basis
     instead costs 1.9× on the recursion smoother's hulls (reliability case 043 at noise 1e-6).
     """
-    _batches.current = getattr(_batches, "current", 0) + 1
+    _batches.current = next(_batch_ids)
 
 _BANNER_LOCK = threading.Lock()
 _banner_shown = False
@@ -172,7 +182,7 @@ class WarmSimplex:
         """Whether a rung of this model ran out of time (`presolve.rung_seconds`) in the current
         batch of this thread (`new_batch`): the caller then asks another method first for the
         batch's remaining objectives (`factor_set.AFTER_TIME_OUT_ATTEMPTS`)."""
-        return self._timed_out_batch == getattr(_batches, "current", 0)
+        return self._timed_out_batch == current_batch()
 
     def _set_rung(self, tolerance: float | None, cap: int, primal: bool = False,
                   perturbed: bool = True) -> None:
@@ -249,7 +259,7 @@ class WarmSimplex:
         rung's failure; λ̂ in Clarabel's convention q + Âᵀλ̂ = 0 on the free factors."""
         m, p = self.shape
         h, status = self._h, self._status
-        batch = getattr(_batches, "current", 0)
+        batch = current_batch()
         if batch != self._batch or dual:
             self._batch = batch
             self._restart()

@@ -118,40 +118,80 @@ def test_a_bracketed_direction_is_answered_on_the_kept_program_without_the_dense
     assert not factorizations  # before 1695486: the fully presolved program was built first
 
 
-def test_once_the_exact_rows_are_found_inconsistent_later_bracketed_directions_go_relaxed(
-        monkeypatch):
+
+def test_once_the_exact_rows_are_found_inconsistent_the_batch_goes_relaxed(monkeypatch):
     """Reliability case 029 (non-square D, fewer noise components than outputs): the recursion
-    smoother's flat sets have rows inconsistent by rounding, on which every solve of the exact rows
-    reports infeasibility or runs into its time limit (76 s a direction) before the relaxed program
-    answers. Once one direction has been sent to the relaxed program after such a time-out, the
-    later bracketed and escalated directions of the same factor set go there directly; other
-    callers still try the exact rows first, and without a time-out nothing changes."""
+    smoother's flat sets have rows inconsistent by rounding, on which the warm simplex method runs
+    into its time limit (76 s a direction) and the exact rows are reported infeasible before the
+    relaxed program answers. After one such direction, the later bracketed and escalated directions
+    of the same batch (one support call) go to the relaxed program directly. Other callers, other
+    batches, other threads, unsettled (not infeasible) answers and batches without a time-out try
+    the exact rows first as before."""
+    import threading
+
+    from setsmooth.solvers import warm_simplex
+
     timed_out = [False]
     monkeypatch.setattr(factor_set, "simplex_timed_out", lambda pre: timed_out[0])
     F, A, xi0 = _strip(seed=7)
+    status = ["PrimalInfeasible"]
     calls = []
 
-    def infeasible(self, pre, q, refine):
+    def exact_rows(self, pre, q, refine):
         calls.append(refine)
-        return "PrimalInfeasible", np.full(pre.A.shape[1], np.nan), np.full(pre.A.shape[0], np.nan)
+        return status[0], np.full(pre.A.shape[1], np.nan), np.full(pre.A.shape[0], np.nan)
 
-    monkeypatch.setattr(FactorConstraints, "_solve_on", infeasible)
+    monkeypatch.setattr(FactorConstraints, "_solve_on", exact_rows)
     rng = np.random.default_rng(0)
     g = rng.standard_normal(A.shape[1])
-    for _ in range(2):  # no time-out: every direction tries the exact rows first
+
+    def tries_exact_rows(**kwargs) -> bool:
         calls.clear()
-        assert F.maximize(g, "test", bracketed=True).status == "relaxed" and calls
+        assert F.maximize(g, "test", **kwargs).status == "relaxed"
+        return bool(calls)
+
+    warm_simplex.new_batch()
+    assert tries_exact_rows(bracketed=True) and tries_exact_rows(bracketed=True)  # no time-out
     timed_out[0] = True
-    first = F.maximize(g, "test", bracketed=True)
-    assert first.status == "relaxed" and calls  # the exact rows were tried first
-    assert g @ first.xi >= _exact_max(A, A @ xi0, g) - 1e-7
+    status[0] = "InsufficientProgress"  # unsettled, not infeasible: no evidence about the rows
+    assert tries_exact_rows(bracketed=True) and tries_exact_rows(bracketed=True)
+    status[0] = "PrimalInfeasible"
+    assert tries_exact_rows(bracketed=True)  # infeasible after a time-out: the batch goes relaxed
     for kwargs in ({"bracketed": True}, {"escalate": True}):
-        calls.clear()
         d = rng.standard_normal(A.shape[1])
+        calls.clear()
         answer = F.maximize(d, "test", **kwargs)
-        assert calls == []  # straight to the relaxed program
-        assert answer.status == "relaxed"
-        assert d @ answer.xi >= _exact_max(A, A @ xi0, d) - 1e-7
-        assert abs(d @ answer.xi - _exact_max(A, A @ xi0, d)) <= 1e-6 * np.abs(d).sum()
-    calls.clear()
-    assert F.maximize(g, "test").status == "relaxed" and calls  # unbracketed: exact rows first
+        assert calls == [] and answer.status == "relaxed"  # straight to the relaxed program
+        exact = _exact_max(A, A @ xi0, d)
+        assert exact - 1e-9 <= d @ answer.xi <= exact + 1e-6 * np.abs(d).sum()
+    assert tries_exact_rows()  # unbracketed: the exact rows first
+    other_thread = []
+    worker = threading.Thread(target=lambda: other_thread.append(tries_exact_rows(bracketed=True)))
+    worker.start()
+    worker.join()
+    assert other_thread == [True]
+    warm_simplex.new_batch()
+    assert tries_exact_rows(bracketed=True)  # the next support call starts afresh
+
+
+def test_after_a_time_out_an_unbracketed_direction_still_gets_the_simplex_method(monkeypatch):
+    """The simplex method is skipped only as a repeat on a copy of rows it already ran on for the
+    direction: on a small program (dependent rows checked up front, so the "fully presolved" program
+    is the first one) an unbracketed direction's only simplex attempt runs after a time-out too."""
+    monkeypatch.setattr(factor_set, "simplex_timed_out", lambda pre: True)
+    F, A, xi0 = _strip(seed=11)
+    assert F.presolved.dependent_checked
+    real = FactorConstraints._solve_on
+    calls = []
+
+    def unsettled_interior_point(self, pre, q, refine):
+        name, eta, z = real(self, pre, q, refine)
+        calls.append(refine)
+        return ("InsufficientProgress" if refine in (False, True) else name), eta, z
+
+    monkeypatch.setattr(FactorConstraints, "_solve_on", unsettled_interior_point)
+    g = np.linspace(-1.0, 1.0, A.shape[1])
+    answer = F.maximize(g, "test")
+    assert calls[:3] == [False, True, "simplex"]
+    assert answer.status == "optimal"
+    assert abs(g @ answer.xi - _exact_max(A, A @ xi0, g)) <= 1e-8 * np.abs(g).sum()
