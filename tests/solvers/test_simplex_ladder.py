@@ -327,20 +327,26 @@ def test_after_a_rung_reaches_its_time_limit_the_dual_method_does_not_perturb_th
     assert gap is not None and gap <= tol.ACCURATE_GAP_TOL
 
 
-def test_after_a_time_out_the_rest_of_the_batch_asks_the_interior_point_method_first(monkeypatch):
-    """A program on which the warm simplex method ran out of time gets the interior-point method
-    first for the remaining directions of that support call (`factor_set.AFTER_TIME_OUT_ATTEMPTS`;
-    reliability case 029, k = 0: 76 s limits reached on several directions of one hull), the same
-    values to the checks' accuracy, and the next call starts with the simplex method again."""
+def _random_cz_and_hull_directions():
+    """A random non-empty CZ in R³ (40 factors, 12 rows) and the six directions of its hull."""
     import setsmooth as ss
-    from setsmooth.solvers import factor_set, warm_simplex
 
     rng = np.random.default_rng(29)
     ng, nc = 40, 12
     A = rng.standard_normal((nc, ng))
     Z = ss.ConstrainedZonotope(rng.standard_normal((3, ng)), rng.standard_normal(3), A,
                                A @ rng.uniform(-0.5, 0.5, ng))
-    D = np.vstack([np.eye(3), -np.eye(3)])
+    return Z, np.vstack([np.eye(3), -np.eye(3)])
+
+
+def test_after_a_time_out_the_rest_of_the_batch_asks_the_interior_point_method_first(monkeypatch):
+    """A program on which the warm simplex method ran out of time gets the interior-point method
+    first for the remaining directions of that support call (`factor_set.AFTER_TIME_OUT_ATTEMPTS`;
+    reliability case 029, k = 0: 76 s limits reached on several directions of one hull), the same
+    values to the checks' accuracy, and the next call starts with the simplex method again."""
+    from setsmooth.solvers import factor_set, warm_simplex
+
+    Z, D = _random_cz_and_hull_directions()
     firsts: list = []  # the first solve of every direction
     real_maximize, real_solve_on = factor_set.FactorConstraints.maximize, \
         factor_set.FactorConstraints._solve_on
@@ -378,12 +384,7 @@ def test_after_a_time_out_the_simplex_method_is_not_repeated_on_the_same_rows(mo
     from setsmooth.solvers import factor_set, warm_simplex
 
     monkeypatch.setattr(factor_set, "DENSE_PRESOLVE_MAX", 0)  # dependent rows not looked for
-    rng = np.random.default_rng(29)
-    ng, nc = 40, 12
-    A = rng.standard_normal((nc, ng))
-    Z = ss.ConstrainedZonotope(rng.standard_normal((3, ng)), rng.standard_normal(3), A,
-                               A @ rng.uniform(-0.5, 0.5, ng))
-    D = np.vstack([np.eye(3), -np.eye(3)])
+    Z, D = _random_cz_and_hull_directions()
     reference = Z.support_many(D)
     Z = ss.ConstrainedZonotope(Z.G, Z.c, Z.A, Z.b)  # a fresh factor set
     calls: list = []
