@@ -437,9 +437,7 @@ class FactorConstraints:
                 self._empty = True
                 return Maximized("infeasible", nan_xi, nan_lam)
             m, p = pre.A.shape
-            ghat = pre.objective(g[None, :])[0]
-            sigma = float(np.abs(ghat).max(initial=0.0)) or 1.0
-            q, lam0 = -ghat / sigma, np.zeros(m)
+            q, sigma, lam0 = self._scaled_objective(pre, g)
             if p == 0 or m + np.count_nonzero(pre.bounded) == 0:
                 if np.any(q[~pre.bounded]):
                     return Maximized("unbounded", nan_xi, nan_lam)
@@ -507,11 +505,17 @@ class FactorConstraints:
             return self._relaxed(pre, q, sigma, lam0)
         raise SolverError(last, context, kind=kind)
 
-    def _relaxed_direction(self, pre: Presolved, g: np.ndarray) -> Maximized:
-        """`_relaxed` for the objective g on the original factors (scaled as `maximize` does)."""
+    @staticmethod
+    def _scaled_objective(pre: Presolved, g: np.ndarray) -> tuple[np.ndarray, float, np.ndarray]:
+        """The minimized objective q = −ĝ/σ on ``pre``'s factors for maximizing gᵀξ, its scale
+        σ = ‖ĝ‖∞ (1 for a zero objective) and the multipliers' zero offset (one per row)."""
         ghat = pre.objective(g[None, :])[0]
         sigma = float(np.abs(ghat).max(initial=0.0)) or 1.0
-        return self._relaxed(pre, -ghat / sigma, sigma, np.zeros(pre.A.shape[0]))
+        return -ghat / sigma, sigma, np.zeros(pre.A.shape[0])
+
+    def _relaxed_direction(self, pre: Presolved, g: np.ndarray) -> Maximized:
+        """`_relaxed` for the objective g on the original factors (scaled as `maximize` does)."""
+        return self._relaxed(pre, *self._scaled_objective(pre, g))
 
     def _relaxed(self, pre: Presolved, q: np.ndarray, sigma: float,
                  lam0: np.ndarray, infeasible: bool = False) -> Maximized:

@@ -69,6 +69,7 @@ def new_batch() -> None:
     """
     _batches.current = next(_batch_ids)
 
+
 _BANNER_LOCK = threading.Lock()
 _banner_shown = False
 
