@@ -159,6 +159,11 @@ class FactorConstraints:
         self._pre_full: Presolved | None = None
         self._free_bound: tuple[float | None] | None = None
 
+    def __getstate__(self) -> dict:
+        # A batch id means nothing in another process (each counts its own from 1): a copy sent to
+        # a process pool must not take the relaxed shortcut of a batch it was never in.
+        return {k: v for k, v in self.__dict__.items() if k != "_relaxed_batch"}
+
     @property
     def _nan(self) -> tuple[np.ndarray, np.ndarray]:
         """(ξ, λ) filled with NaN: the factors and multipliers of an infinite value (read-only)."""

@@ -195,3 +195,28 @@ def test_after_a_time_out_an_unbracketed_direction_still_gets_the_simplex_method
     assert calls[:3] == [False, True, "simplex"]
     assert answer.status == "optimal"
     assert abs(g @ answer.xi - _exact_max(A, A @ xi0, g)) <= 1e-8 * np.abs(g).sum()
+
+
+def _relaxed_shortcut_status(F: FactorConstraints) -> str:
+    """The status of a bracketed direction of ``F`` in a fresh process's first batch."""
+    from setsmooth.solvers import warm_simplex
+
+    warm_simplex.new_batch()
+    return F.maximize(np.ones(F.ng), "test", bracketed=True).status
+
+
+def test_the_relaxed_shortcut_does_not_travel_to_another_process():
+    """Batch ids are counted per process: a factor set pickled in a batch that took the relaxed
+    shortcut must not take it in a worker whose batch happens to have the same id."""
+    import pickle
+    from concurrent.futures import ProcessPoolExecutor
+
+    from setsmooth.solvers import warm_simplex
+
+    F, _, _ = _strip(seed=13)
+    for batch in range(1, 4):  # the ids a fresh worker's first batches get
+        F._relaxed_batch = batch
+        assert "_relaxed_batch" not in pickle.loads(pickle.dumps(F)).__dict__
+    F._relaxed_batch = warm_simplex.current_batch()
+    with ProcessPoolExecutor(1) as pool:
+        assert pool.submit(_relaxed_shortcut_status, F).result() == "optimal"
