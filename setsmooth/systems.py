@@ -188,7 +188,7 @@ class LinearSystem:
     def _with_noises(self, W: ConvexSet, V: ConvexSet) -> "LinearSystem":
         """The same matrices with noise ranges W, V (trusted: of this system's p and q) and no input.
 
-        The deviation form about a nominal trajectory (`setsmooth.nominal_deviations`).
+        The deviation form about a nominal trajectory (`setsmooth.trajectories.nominal`).
         """
         other = copy.copy(self)
         other.W, other.V, other._u, other._images = W, V, None, {}

@@ -1,4 +1,5 @@
-"""The recursion's sets are certified against the model data (`setsmooth.data_certificates`)."""
+"""The recursion's sets are certified against the model data
+(`setsmooth.trajectories.recursion_certificates`)."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ import pickle
 import numpy as np
 
 import setsmooth as ss
-from setsmooth.data_certificates import certified_against_data
+from setsmooth.trajectories.recursion_certificates import certified_against_data
 
 
 def _system(offset: float = 0.0):

@@ -11,7 +11,7 @@ import scipy.sparse as sp
 
 import setsmooth as ss
 from setsmooth.filters.classical import predict
-from setsmooth.nominal_deviations import about_nominal
+from setsmooth.trajectories.nominal import about_nominal
 from setsmooth.sets.base import ConvexSet
 from tests.estimation_helpers import example_31, time_varying_system
 
@@ -56,7 +56,7 @@ def test_filter_and_smoother_give_exactly_the_sets_of_the_public_operators(name)
     X0 = ss.ConstrainedZonotope([[1.0, 0.5, 0.0], [0.0, 1.0, 0.3]], [0.2, -0.1], A=[[1.0, 1.0, 1.0]], b=[0.4])
     _, ys = ss.simulate(system, X0, 8, np.random.default_rng(3))
     posts = ss.classical_filter(system, X0, ys, detect_empty=False, form="recursion")
-    # The recursion runs about the nominal trajectory (`setsmooth.nominal_deviations`): the reference
+    # The recursion runs about the nominal trajectory (`setsmooth.trajectories.nominal`): the reference
     # is the operators' recursion on the same deviation form, translated back by the public `+`.
     form = about_nominal(system, X0, ys)
     deviations = _operator_filter(form.system, form.X0, form.ys)

@@ -5,7 +5,7 @@ import pickle
 import numpy as np
 
 import setsmooth as ss
-from setsmooth.nominal_deviations import about_nominal
+from setsmooth.trajectories.nominal import about_nominal
 from setsmooth.sets.algebra import translate
 
 from .estimation_helpers import time_varying_system

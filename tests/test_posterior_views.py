@@ -13,11 +13,11 @@ from setsmooth.filters.classical import predict, update
 #: A horizon long enough for the views' sharing to matter (the recursion is O(T³)).
 HORIZON = 64
 from setsmooth.paper_examples import smoothing_example_31
-from setsmooth.posterior_views import PosteriorView, posterior_views
+from setsmooth.trajectories.posterior_views import PosteriorView, posterior_views
 from setsmooth.sets.algebra import generalized_intersection, minkowski_sum
 from setsmooth.solvers import instances
-from setsmooth.trajectories import _assemble
-from setsmooth.trajectory_certificate import banded_free_factor_bound, gram_lower_bound
+from setsmooth.trajectories.sparse_cz import _assemble
+from setsmooth.trajectories.free_factor_bound import banded_free_factor_bound, gram_lower_bound
 
 X0 = ss.Box([-5.0, -5.0], [5.0, 5.0])
 TRIANGLE = ss.ConstrainedZonotope(G=[[0.4, -0.3, 0.1], [0.1, 0.2, -0.35]], c=[0.0, 0.0],

@@ -7,7 +7,7 @@ import setsmooth as ss
 from setsmooth.solvers import generic
 from setsmooth.filters.classical import predict, update
 from setsmooth.trajectories import TrajectorySet
-from setsmooth.trajectory_program import FilteredState
+from setsmooth.trajectories.generic_program import FilteredState
 from tests.custom_sets import L1Ball, VPolytope
 from tests.estimation_helpers import example_31
 
@@ -123,16 +123,16 @@ def test_filter_of_non_cz_sets_equals_the_recursion(kind):
 
 
 def test_all_filtered_ranges_share_one_compiled_program(monkeypatch):
-    from setsmooth import trajectory_program
+    from setsmooth.trajectories import generic_program
 
     built = []
-    original = trajectory_program._FilterProgram.__init__
+    original = generic_program._FilterProgram.__init__
 
     def counting(self, traj):
         built.append(traj)
         original(self, traj)
 
-    monkeypatch.setattr(trajectory_program._FilterProgram, "__init__", counting)
+    monkeypatch.setattr(generic_program._FilterProgram, "__init__", counting)
     sys = _system("custom")
     X0 = ss.Box([-3, -3], [3, 3])
     xs, ys = ss.simulate(sys, X0, 8, np.random.default_rng(9))

@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from .._validation import as_measurements, as_vector
-from ..nominal_deviations import RecursionDeviations, about_nominal
+from ..trajectories.nominal import RecursionDeviations, about_nominal
 from ..results import SetEstimates
 from ..sets.algebra import generalized_intersection, linear_map, minkowski_sum, translate
 from ..sets.base import ConvexSet
@@ -23,13 +23,13 @@ from ..sets.empty import EmptySet
 from ..sets.reduction import apply_methods, as_methods
 
 #: The forms of the exact filter's CZ posteriors (``form=``). 'views': the last projections of one
-#: sparse trajectory CZ (`setsmooth.posterior_views`), O(T) memory for a data set, and the accurate
-#: form: the recursion's CZs of an unstable system carry generators grown like ‖A‖^k around a set of
-#: unit width (reliability case 027, ρ(A) = 3.5, T = 11: generators ~1e6 for a width ~3), and their
-#: hull endpoints were 3e-4 of the width off the HiGHS oracle in every noise regime, while the views,
-#: whose states are deviations from the nominal trajectory, agreed to 1e-6. 'recursion': Algorithm 1's
-#: CZs, built step by step (the recursion smoother's input), now also about the nominal trajectory
-#: (`setsmooth.nominal_deviations`). Cost, example (31) with certified hulls,
+#: sparse trajectory CZ (`setsmooth.trajectories.posterior_views`), O(T) memory for a data set, and the
+#: accurate form: the recursion's CZs of an unstable system carry generators grown like ‖A‖^k around a set
+#: of unit width (reliability case 027, ρ(A) = 3.5, T = 11: generators ~1e6 for a width ~3), and their hull
+#: endpoints were 3e-4 of the width off the HiGHS oracle in every noise regime, while the views, whose
+#: states are deviations from the nominal trajectory, agreed to 1e-6. 'recursion': Algorithm 1's CZs, built
+#: step by step (the recursion smoother's input), now also about the nominal trajectory
+#: (`setsmooth.trajectories.nominal`). Cost, example (31) with certified hulls,
 #: CPU per data set: T = 50, views 0.33 s, recursion 0.22 s; T = 100, 0.88 s and 1.37 s (the
 #: recursion grows as O(T³), the views as O(T²); ``benchmarks/bench_long_horizon.py --cases crossover``).
 #: 'polygon': planar polytope systems only, Algorithm 1 in closed form with `Polygon`s (no solver;
@@ -85,9 +85,9 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
         means the measurements are inconsistent with the model (ill-posedness is data, not an
         exception). Without ``reduce``, when X0, W or V has no CZ form and X0 and W are bounded, the
         posteriors are `FilteredState`s: the same sets as projections of one compiled trajectory
-        program (`setsmooth.trajectory_program`). When they all flatten to CZs they are
+        program (`setsmooth.trajectories.generic_program`). When they all flatten to CZs they are
         `PosteriorView`s (unless ``form='recursion'``): the same CZs as projections of one shared
-        sparse trajectory CZ (`setsmooth.posterior_views`), O(T) memory for all of them.
+        sparse trajectory CZ (`setsmooth.trajectories.posterior_views`), O(T) memory for all of them.
     """
     ys = as_measurements(ys, system.m)
     _check_state_set(X0, "X0", system.n)
@@ -108,27 +108,28 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
     if any(S._flat_cz is None for S in (X0, system.W, system.V)):
         # Without a CZ form the recursion's sets nest O(k) deep, one CVXPY compilation per query:
         # the same posteriors as projections of one compiled trajectory program (bounded states).
-        from ..trajectory_program import filtered_ranges
+        from ..trajectories.generic_program import filtered_ranges
 
         posteriors = filtered_ranges(system, X0, ys)
     elif form != "recursion":
         # The recursion's CZs grow O(k²) dense rows each (O(T³) time and memory over a data set);
         # as views of one sparse trajectory CZ they are the same sets at O(k) per query, O(T) kept.
-        from ..posterior_views import posterior_views
+        from ..trajectories.posterior_views import posterior_views
 
         posteriors = posterior_views(system, X0, ys)
     deviations = None
     if posteriors is None:
         # Algorithm 1's recursion, run on the deviations from the nominal trajectory (the same sets,
-        # without rounding at the states' magnitude: `setsmooth.nominal_deviations`).
+        # without rounding at the states' magnitude: `setsmooth.trajectories.nominal`).
         form_about = about_nominal(system, X0, ys)
         if form_about is None:  # an unbounded X0 (no centre): the original coordinates
             posteriors = _recursion(system, X0, ys)
         else:
             deviations = _recursion(form_about.system, form_about.X0, form_about.ys)
             posteriors = form_about.to_states(deviations)
-        # The recursion's CZs are certified against the data (`setsmooth.data_certificates`).
-        from ..data_certificates import certified_against_data
+        # The recursion's CZs are certified against the data
+        # (`setsmooth.trajectories.recursion_certificates`).
+        from ..trajectories.recursion_certificates import certified_against_data
 
         posteriors = certified_against_data(posteriors, system, X0, ys, "filtered")
     if detect_empty:

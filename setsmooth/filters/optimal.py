@@ -286,7 +286,7 @@ def _assemble(system, joint_range: JointRange, cz: ConstrainedZonotope, ys: np.n
     def factors(dims) -> sp.csr_matrix:
         return G_J[list(dims)]
 
-    # The rows' rounding slack (`setsmooth.sets.rounding`, as in `trajectories._assemble`): J's own
+    # The rows' rounding slack (`setsmooth.sets.rounding`, as in `trajectories.sparse_cz._assemble`): J's own
     # charges where its coordinates enter a row, the nominal trajectory's rounding, and that of the
     # products B·G_J, D·G_J and of the measurement rows' right-hand sides.
     def charge(M, dims):

@@ -98,14 +98,15 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
     deviations = getattr(posteriors, "_recursion_deviations", None)
     if deviations is not None and deviations.matches(posteriors):
         # The filter's recursion ran about the nominal trajectory: so does the backward pass (the
-        # same sets, `setsmooth.nominal_deviations`).
+        # same sets, `setsmooth.trajectories.nominal`).
         smoothed = deviations.form.to_states(smooth(deviations.form.system, deviations.deviations))
     else:
         smoothed = smooth(system, posteriors)
     outer = getattr(posteriors, "outer", False)
     if isinstance(posteriors, SetEstimates) and not outer:
-        # Exact sets of these data: certified against the data (`setsmooth.data_certificates`).
-        from ..data_certificates import certified_against_data
+        # Exact sets of these data: certified against the data
+        # (`setsmooth.trajectories.recursion_certificates`).
+        from ..trajectories.recursion_certificates import certified_against_data
 
         smoothed = certified_against_data(smoothed, system, X0, ys, "smoothed")
     return SetEstimates(smoothed, system=system, X0=X0, ys=ys, kind="smoothed", outer=outer)

@@ -191,7 +191,8 @@ def test_recursion_smoother_certified_hulls_enclose_the_exact_ones_far_from_the_
     """Reliability case 000 (n = 6, T = 29) at offset 1e6: the recursion's CZs are formed by products
     of A rounded in floating point, and their certified hulls (valid for the CZs as stored) sat up to
     1.0e-7 of w + σ inside the exact hull at 137 endpoints. The estimators' sets are now certified
-    against the data (`setsmooth.data_certificates`, trajectory rows with their rounding charged)."""
+    against the data (`setsmooth.trajectories.recursion_certificates`, trajectory rows with their rounding
+    charged)."""
     case = in_regime(base_case(2026, 0), "offset1e+06")
     oracle = TrajectoryOracle(case.system, case.X0, case.ys)
     lo_x, hi_x = oracle.smoothed_hulls()
@@ -211,7 +212,7 @@ def test_recursion_smoother_plain_hulls_are_exact_far_from_the_origin():
     in absolute coordinates rounded each intersection's centres at 1e6, differently in the two copies
     of the same data, and its plain hulls were up to 5.3e-6 of w + σ narrower than the exact ones
     (4.0e-6 at k = 24, 5.3e-6 at k = 25). The recursion now runs about the nominal trajectory
-    (`setsmooth.nominal_deviations`)."""
+    (`setsmooth.trajectories.nominal`)."""
     case = in_regime(base_case(2026, 33), "offset1e+06")
     lo_x, hi_x = TrajectoryOracle(case.system, case.X0, case.ys).smoothed_hulls()
     sigma = data_scale(case.system, case.X0)

@@ -23,8 +23,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from .sets.base import ConvexSet
-from .solvers.clarabel_lp import SolverError
+from ..sets.base import ConvexSet
+from ..solvers.clarabel_lp import SolverError
 
 __all__ = ["TrajectorySet", "FilteredState", "filtered_ranges"]
 
@@ -98,8 +98,8 @@ class TrajectorySet(ConvexSet):
 
     @property
     def _generic(self):
-        from .solvers.generic import GenericProgram
-        from .solvers.instances import cached_instance
+        from ..solvers.generic import GenericProgram
+        from ..solvers.instances import cached_instance
 
         def build() -> GenericProgram:
             program = GenericProgram(self)
@@ -127,7 +127,7 @@ class TrajectorySet(ConvexSet):
         return True
 
     def _project(self, idx: np.ndarray) -> ConvexSet:
-        from .sets.lazy import LinearMap
+        from ..sets.lazy import LinearMap
 
         M = sp.csr_matrix((np.ones(idx.size), (np.arange(idx.size), idx)), shape=(idx.size, self.dim))
         return LinearMap(M, self)
@@ -167,7 +167,7 @@ class FilteredState(ConvexSet):
 
     @property
     def _program(self) -> "_FilterProgram":
-        from .solvers.instances import cached_instance
+        from ..solvers.instances import cached_instance
 
         traj = self.trajectories
         return cached_instance(traj, "filter program", lambda: _FilterProgram(traj))
@@ -210,7 +210,7 @@ class _FilterProgram:
         self.d.value = full
 
     def _solve(self, j: int, d: np.ndarray, context: str) -> str:
-        from .solvers.conic import solve_problem
+        from ..solvers.conic import solve_problem
 
         self._set(j, d)
         return solve_problem(self.problem, context, "support")
@@ -218,7 +218,7 @@ class _FilterProgram:
     def feasible(self, j: int) -> bool:
         """Whether the posterior at index j is non-empty (the elastic emptiness program of
         `solvers.conic`)."""
-        from .solvers.conic import conic_form
+        from ..solvers.conic import conic_form
 
         self._set(j, np.zeros(self.n))
         form = conic_form(self.problem, "deciding emptiness of a filtered range", "emptiness")[0]

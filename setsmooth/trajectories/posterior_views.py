@@ -19,8 +19,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from .sets.constrained_zonotope import ConstrainedZonotope
-from .solvers.instances import cached_instance
+from ..sets.constrained_zonotope import ConstrainedZonotope
+from ..solvers.instances import cached_instance
 
 __all__ = ["PosteriorView", "posterior_views"]
 
@@ -30,7 +30,7 @@ class _SharedTrajectories:
 
     def __init__(self, system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope,
                  Zv: ConstrainedZonotope, ys: np.ndarray):
-        from .trajectories import _assemble
+        from .sparse_cz import _assemble
 
         T = ys.shape[0] - 1
         self.n, self.T = system.n, T
@@ -41,7 +41,7 @@ class _SharedTrajectories:
         # the rows' rounding slack (`setsmooth.sets.rounding`), and per unit of the free factors
         self.slack, self.slack_free = full.slack, full.slack_free
         n, m = system.n, system.m
-        # The layout of `trajectories._assemble`: columns [states | ξ_Z | ξ_w,0..T−1 | ξ_v,0..T],
+        # The layout of `sparse_cz._assemble`: columns [states | ξ_Z | ξ_w,0..T−1 | ξ_v,0..T],
         # rows [A_Z | A_w × T | A_v × (T+1) | x_0 − G_Z ξ_Z | dynamics × T | measurements × (T+1)].
         col_x0 = n * (T + 1)
         col_w = col_x0 + Z0.ng
@@ -87,8 +87,8 @@ class _SharedTrajectories:
                 None if self.slack_free is None else self.slack_free[rows])
 
     def trajectories(self, k: int) -> ConstrainedZonotope:
-        """The trajectory CZ over 0..k: exactly `trajectories._assemble` over 0..k, cut out."""
-        from .trajectories import TrajectoryFactors
+        """The trajectory CZ over 0..k: exactly `sparse_cz._assemble` over 0..k, cut out."""
+        from .sparse_cz import TrajectoryFactors
 
         A, b, h, slack, slack_free = self._cut(k)
         n_states = self.n * (k + 1)
@@ -100,7 +100,7 @@ class _SharedTrajectories:
     def posterior(self, k: int) -> ConstrainedZonotope:
         """⟦x_k | y_{0:k}⟧: the projection on x_k of the trajectories 0..k (G selects the states
         of time k, the last n factors of the states' block)."""
-        from .trajectories import TrajectoryFactors
+        from .sparse_cz import TrajectoryFactors
 
         A, b, h, slack, slack_free = self._cut(k)
         n = self.n

@@ -6,8 +6,8 @@ The set of all state trajectories x_i..x_k consistent with y_i..y_k from a prior
                                                y_l = C_l x_l + D_l v_l,  w_l ∈ W,  v_l ∈ V },
 
 is one sparse extended CZ (`trajectory_set`) when the prior, W and V flatten to CZs, and otherwise the
-lazy `TrajectorySet` of `setsmooth.trajectory_program` (one CVXPY problem over the stacked trajectory,
-compiled once and shared by its projections). Two projections carry the theory:
+lazy `TrajectorySet` of `setsmooth.trajectories.generic_program` (one CVXPY problem over the stacked
+trajectory, compiled once and shared by its projections). Two projections carry the theory:
 
 * with i = 0 and Z = X0, its projection on x_l is the optimal smoothed range ⟦x_l | y_{0:k}⟧ (smoothing
   paper Theorem 1: the smoothed range is the set of x_l over all consistent trajectories);
@@ -38,12 +38,12 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from ._validation import as_measurements
-from .sets.base import ConvexSet
-from .sets import rounding
-from .sets.constrained_zonotope import ConstrainedZonotope
-from .solvers.factor_set import FactorConstraints
-from .trajectory_program import TrajectorySet
+from .._validation import as_measurements
+from ..sets.base import ConvexSet
+from ..sets import rounding
+from ..sets.constrained_zonotope import ConstrainedZonotope
+from ..solvers.factor_set import FactorConstraints
+from .generic_program import TrajectorySet
 
 __all__ = ["trajectory_set", "filtering_map", "TrajectorySet"]
 
@@ -312,7 +312,7 @@ class TrajectoryFactors(FactorConstraints):
 
     def free_bound(self) -> float | None:
         if self._free_bound is None:
-            from .trajectory_certificate import banded_free_factor_bound
+            from .free_factor_bound import banded_free_factor_bound
 
             bound = banded_free_factor_bound(self.A, self.b, self.h, self.slack, self.slack_free)
             if bound is None:

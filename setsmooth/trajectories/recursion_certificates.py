@@ -23,7 +23,7 @@ import threading
 
 import numpy as np
 
-from .sets.constrained_zonotope import ConstrainedZonotope
+from ..sets.constrained_zonotope import ConstrainedZonotope
 
 __all__ = ["DataReference", "certified_against_data"]
 
@@ -44,8 +44,8 @@ class _SharedReferences:
 
                     self._sets = posterior_views(self.system, self.X0, self.ys)
                 else:
-                    from .smoothers.linear import smoothed_ranges_from_trajectories
-                    from .trajectories import trajectory_set
+                    from ..smoothers.linear import smoothed_ranges_from_trajectories
+                    from .sparse_cz import trajectory_set
 
                     self._sets = smoothed_ranges_from_trajectories(
                         trajectory_set(self.system, self.X0, self.ys), self.system.n)

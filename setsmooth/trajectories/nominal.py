@@ -17,12 +17,12 @@ each copy; on a thin set the difference is amplified by the inverse of its width
 up to 5.3e-6 of the width narrower than the exact ones. As deviations every number the recursion
 combines is of the sets' width, the states' magnitude enters once, in ỹ_k (rounded like any
 formulation rounds y_k − C_k x_k), and the same hulls agree with the oracle to 3e-9. The posterior
-views (`setsmooth.posterior_views`) and the trajectory set are built about the same nominal.
+views (`setsmooth.trajectories.posterior_views`) and the trajectory set are built about the same nominal.
 
 The nominal states are computed in floating point, so the deviation model differs from the exact one
 by their rounding (a few units in the last place of x̄_k per step, like the rounding of any step of the
 recursion). Certified values do not depend on it: the recursion's sets are certified against the
-original data (`setsmooth.data_certificates`).
+original data (`setsmooth.trajectories.recursion_certificates`).
 """
 
 from __future__ import annotations
@@ -31,9 +31,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .sets.algebra import translate
-from .sets.base import ConvexSet
-from .sets.empty import EmptySet
+from ..sets.algebra import translate
+from ..sets.base import ConvexSet
+from ..sets.empty import EmptySet
 
 __all__ = ["NominalDeviations", "RecursionDeviations", "about_nominal"]
 

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from .solvers.certify import free_factor_bound, gamma
+from ..solvers.certify import free_factor_bound, gamma
 
 __all__ = ["banded_free_factor_bound", "gram_lower_bound", "BANDED_MAX_BANDWIDTH"]
 
