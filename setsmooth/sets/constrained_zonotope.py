@@ -85,7 +85,8 @@ class ConstrainedZonotope(ConvexSet):
 
     def _init(self, G, c, A, b, h, factors: FactorConstraints | None,
               pad: np.ndarray | None = None, slack: np.ndarray | None = None,
-              pad_free: np.ndarray | None = None, slack_free: np.ndarray | None = None) -> None:
+              pad_free: np.ndarray | None = None, slack_free: np.ndarray | None = None,
+              pad_generators: np.ndarray | None = None) -> None:
         self.G = G if sp.issparse(G) else mx.readonly(G)
         self.c = mx.readonly(c)
         self.A = A if sp.issparse(A) else mx.readonly(A)
@@ -96,9 +97,14 @@ class ConstrainedZonotope(ConvexSet):
             slack, slack_free = factors.slack, factors.slack_free
         self._factors = factors
         # The algebra's own rounding (`setsmooth.sets.rounding`): None where nothing was rounded.
-        # A point of the exact set is within pad + pad_free·‖ξ_F‖∞ of c + Gξ, for ξ with
-        # |Aξ − b| ≤ slack + slack_free·‖ξ_F‖∞ (ξ_F: the free factors).
-        self.pad = None if pad is None else mx.readonly(pad)
+        # A point of the exact set is within box(pad) ⊕ Z(pad_generators) ⊕ box(pad_free·‖ξ_F‖∞)
+        # of c + Gξ, for ξ with |Aξ − b| ≤ slack + slack_free·‖ξ_F‖∞ (ξ_F: the free factors).
+        # Linear maps carry the pad generators exactly (`rounding.mapped_pad`); ``pad`` is the box
+        # hull of both parts, what code that reads a CZ's data sees.
+        self._pad_box = None if pad is None else mx.readonly(pad)
+        self._pad_generators = None if pad_generators is None else mx.readonly(pad_generators)
+        hull = rounding.pad_hull(pad, pad_generators)
+        self.pad = None if hull is None else mx.readonly(hull)
         self.pad_free = None if pad_free is None else mx.readonly(pad_free)
         self._slack = None if slack is None else mx.readonly(slack)
         self._slack_free = None if slack_free is None else mx.readonly(slack_free)
@@ -109,7 +115,8 @@ class ConstrainedZonotope(ConvexSet):
     def _with_reference(self, reference) -> "ConstrainedZonotope":
         """This CZ with its certified values taken from ``reference.get()`` (internal)."""
         out = ConstrainedZonotope._trusted(self.G, self.c, self.A, self.b, self.h, self._factors,
-                                           self.pad, self._slack, self.pad_free, self._slack_free)
+                                           self._pad_box, self._slack, self.pad_free, self._slack_free,
+                                           self._pad_generators)
         out._reference = reference
         return out
 
@@ -126,11 +133,11 @@ class ConstrainedZonotope(ConvexSet):
     @classmethod
     def _trusted(cls, G, c, A, b, h, factors: FactorConstraints | None = None,
                  pad: np.ndarray | None = None, slack: np.ndarray | None = None,
-                 pad_free: np.ndarray | None = None, slack_free: np.ndarray | None = None
-                 ) -> "ConstrainedZonotope":
+                 pad_free: np.ndarray | None = None, slack_free: np.ndarray | None = None,
+                 pad_generators: np.ndarray | None = None) -> "ConstrainedZonotope":
         """Build without validation (internal: operands already validated)."""
         obj = cls.__new__(ConstrainedZonotope)
-        obj._init(G, c, A, b, h, factors, pad, slack, pad_free, slack_free)
+        obj._init(G, c, A, b, h, factors, pad, slack, pad_free, slack_free, pad_generators)
         return obj
 
     def materialized(self) -> "ConstrainedZonotope":
@@ -409,17 +416,21 @@ class ConstrainedZonotope(ConvexSet):
 
     # -- closed-form algebra ---------------------------------------------------------------------------
     def _linear_map(self, M) -> "ConstrainedZonotope":
-        """M Z = Z(MG, Mc, A, b, h) (smoothing paper (35), stability (11)), its rounding charged."""
-        pad, pad_free = rounding.linear_image(M, self.G, self.c, self.h, self.pad, self.pad_free)
+        """M Z = Z(MG, Mc, A, b, h) (smoothing paper (35), stability (11)), its rounding charged;
+        the earlier charges are carried as pad generators (`rounding.mapped_pad`), not wrapped."""
+        fresh, pad_free = rounding.linear_image(M, self.G, self.c, self.h, None, self.pad_free)
+        generators, carried = rounding.mapped_pad(M, self._pad_box, self._pad_generators)
         return ConstrainedZonotope._trusted(mx.matmul(M, self.G), np.asarray(M @ self.c).reshape(-1),
-                                            self.A, self.b, self.h, self._factors, pad, self._slack,
-                                            pad_free, self._slack_free)
+                                            self.A, self.b, self.h, self._factors,
+                                            rounding.add(fresh, carried), self._slack,
+                                            pad_free, self._slack_free, generators)
 
     def _translate(self, v: np.ndarray) -> "ConstrainedZonotope":
         c, err = rounding.sum_with_error(self.c, v)
         return ConstrainedZonotope._trusted(self.G, c, self.A, self.b, self.h, self._factors,
-                                            rounding.add(self.pad, err if err.any() else None),
-                                            self._slack, self.pad_free, self._slack_free)
+                                            rounding.add(self._pad_box, err if err.any() else None),
+                                            self._slack, self.pad_free, self._slack_free,
+                                            self._pad_generators)
 
     # The algebra hooks are these two exact CZ operations.
     def _closed_linear_map(self, M) -> "ConstrainedZonotope":
@@ -431,21 +442,23 @@ class ConstrainedZonotope(ConvexSet):
     def _project(self, idx: np.ndarray) -> "ConstrainedZonotope":
         G = self.G[idx] if not sp.issparse(self.G) else sp.csc_matrix(self.G.tocsr()[idx])
         return ConstrainedZonotope._trusted(G, self.c[idx], self.A, self.b, self.h, self._factors,
-                                            None if self.pad is None else self.pad[idx], self._slack,
+                                            None if self._pad_box is None else self._pad_box[idx],
+                                            self._slack,
                                             None if self.pad_free is None else self.pad_free[idx],
-                                            self._slack_free)
+                                            self._slack_free, _selected_rows(self._pad_generators, idx))
 
     def _minkowski_sum(self, other: "ConstrainedZonotope") -> "ConstrainedZonotope":
         """Z ⊕ W (smoothing paper (36)); the rounding of c_Z + c_W charged to the pad."""
         A, b, h = mx.block_diag(self.A, other.A), np.concatenate([self.b, other.b]), \
             np.concatenate([self.h, other.h])
         c, err = rounding.sum_with_error(self.c, other.c)
-        pad = rounding.add(self.pad, other.pad, err if err.any() else None)
+        pad = rounding.add(self._pad_box, other._pad_box, err if err.any() else None)
         slack, slack_free = _stacked_slack((self, other))
         return ConstrainedZonotope._trusted(mx.hstack([self.G, other.G]), c, A, b, h,
                                             _joined_factors(A, b, h, slack, slack_free, self, other),
                                             pad, slack, rounding.add(self.pad_free, other.pad_free),
-                                            slack_free)
+                                            slack_free, _side_by_side(self._pad_generators,
+                                                                      other._pad_generators))
 
     def _cartesian_product(self, other: "ConstrainedZonotope") -> "ConstrainedZonotope":
         A, b, h = mx.block_diag(self.A, other.A), np.concatenate([self.b, other.b]), \
@@ -454,8 +467,9 @@ class ConstrainedZonotope(ConvexSet):
         return ConstrainedZonotope._trusted(
             mx.block_diag(self.G, other.G), np.concatenate([self.c, other.c]), A, b, h,
             _joined_factors(A, b, h, slack, slack_free, self, other),
-            _stacked((self.pad, other.pad), (self.dim, other.dim)), slack,
-            _stacked((self.pad_free, other.pad_free), (self.dim, other.dim)), slack_free)
+            _stacked((self._pad_box, other._pad_box), (self.dim, other.dim)), slack,
+            _stacked((self.pad_free, other.pad_free), (self.dim, other.dim)), slack_free,
+            _block_diagonal(self._pad_generators, other._pad_generators, self.dim, other.dim))
 
     def _generalized_intersection(self, R, Y: "ConstrainedZonotope") -> "ConstrainedZonotope":
         """Z ∩_R Y = {z ∈ Z : Rz ∈ Y} (smoothing paper (37); stability (21) with R = C).
@@ -487,7 +501,31 @@ class ConstrainedZonotope(ConvexSet):
         slack, slack_free = _stacked_slack((self, Y), (new_rows, new_rows_free), R.shape[0])
         return ConstrainedZonotope._trusted(G, self.c, A, b, h,
                                             _joined_factors(A, b, h, slack, slack_free, self, Y),
-                                            self.pad, slack, self.pad_free, slack_free)
+                                            self._pad_box, slack, self.pad_free, slack_free,
+                                            self._pad_generators)
+
+
+def _selected_rows(P: np.ndarray | None, idx: np.ndarray) -> np.ndarray | None:
+    """Rows ``idx`` of pad generators (None stays None)."""
+    return None if P is None else P[idx]
+
+
+def _side_by_side(P: np.ndarray | None, Q: np.ndarray | None) -> np.ndarray | None:
+    """The pad generators of a Minkowski sum: both sets' columns (None meaning none)."""
+    if P is None or Q is None:
+        return Q if P is None else P
+    return np.hstack([P, Q])
+
+
+def _block_diagonal(P: np.ndarray | None, Q: np.ndarray | None, n: int, m: int) -> np.ndarray | None:
+    """The pad generators of a Cartesian product (None meaning none)."""
+    if P is None and Q is None:
+        return None
+    P = np.zeros((n, 0)) if P is None else P
+    Q = np.zeros((m, 0)) if Q is None else Q
+    out = np.zeros((n + m, P.shape[1] + Q.shape[1]))
+    out[:n, :P.shape[1]], out[n:, P.shape[1]:] = P, Q
+    return out
 
 
 def _stacked(parts, sizes) -> np.ndarray | None:

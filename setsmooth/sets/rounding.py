@@ -32,9 +32,18 @@ Free factors (h_j = ∞) are unbounded, so the rounding of their columns is char
 free factors that certificates of such sets need anyway (`setsmooth.solvers.certify`); β itself is
 computed for the relaxed set. Selections of states (the trajectory views) are never rounded.
 
-Charges are sound, not tight, and a pad carried through many linear maps grows like ‖|A|‖^k (the
-wrapping effect of interval arithmetic) where the rounding itself does not: the recursion's estimators
-therefore certify their sets against the model data instead (`setsmooth.data_certificates`).
+Charges are sound, not tight. A pad is a box, and a box carried through a linear map M is enclosed by
+the box |M|·pad: carried through k maps it grows like ‖|A|‖^k (the wrapping effect of interval
+arithmetic) where the rounding itself does not. So a set's pad has two parts: the box of the rounding
+of the last operation, and **pad generators** P (one column per earlier charge, factors ε ∈ [−1, 1]
+independent of ξ): every point of the exact set is within box(pad) ⊕ Z(P) of c + Gξ. A linear map
+carries the earlier charges exactly, as columns fl(M·[P, diag(pad)]) whose own rounding is the new
+box (`mapped_pad`), the way affine arithmetic carries its error symbols: the charges then grow like
+the set's own generators, ‖A^k‖, not ‖|A|‖^k. Along coordinate directions ‖Pᵀe_i‖₁ = (|P|·1)_i, so
+the box hull of both parts (`pad_hull`, what ``pad`` reads elsewhere) loses nothing for interval
+hulls. The estimators of the recursion certify their sets against the model data
+(`setsmooth.trajectories.recursion_certificates`); the pad generators are what keeps a recursion
+written by hand with the set algebra certified as tightly.
 """
 
 from __future__ import annotations
@@ -47,7 +56,8 @@ from ..solvers.certify import _ETA, gamma  # η = 2⁻¹⁰⁷⁴; γ_k = k·u /
 __all__ = ["U", "gamma", "two_sum", "sum_with_error", "sum_down", "sum_up", "abs_matvec", "zeros_or",
            "product_error", "products_exact", "rounded_up", "upper_bound", "residual_bound", "row_sums_bound",
            "extended_residual_bound",
-           "chained_product_error", "add", "linear_image", "box_center_radius"]
+           "chained_product_error", "add", "linear_image", "box_center_radius", "pad_hull", "mapped_pad",
+           "PAD_GENERATORS_PER_DIM"]
 
 U = np.finfo(float).eps / 2  # unit roundoff 2⁻⁵³
 
@@ -402,6 +412,74 @@ def linear_image(M, G, c: np.ndarray, h: np.ndarray, pad: np.ndarray | None,
     total_free = rounded_up(sum(free_terms), size) if free_terms else None
     return (total if np.any(total) else None,
             total_free if total_free is not None and np.any(total_free) else None)
+
+
+#: The pad generators a set carries (`mapped_pad`) are capped at this many per coordinate; beyond it
+#: they are enclosed in n generators in their own frame (`_parallelotope`).
+PAD_GENERATORS_PER_DIM = 8
+
+
+def pad_hull(pad: np.ndarray | None, generators: np.ndarray | None) -> np.ndarray | None:
+    """The box that encloses box(pad) ⊕ Z(generators): pad + |P|·1, rounded up; None when both are."""
+    if generators is None:
+        return pad
+    return add(pad, rounded_up(np.abs(generators).sum(axis=1), generators.shape[1]))
+
+
+def mapped_pad(M, pad: np.ndarray | None, generators: np.ndarray | None
+               ) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """The charges box(pad) ⊕ Z(P) of a set, carried through the linear map M without wrapping.
+
+    M·(box(pad) ⊕ Z(P)) = Z(M·X) exactly, X = [P, diag(pad)] (the padded coordinates only). Returns
+    (P', charge): P' = fl(M·X), the image's pad generators, and ``charge``, a box that bounds
+    |fl(M·X) − M·X|·1 (to be added to the image's own rounding). When P' has more than
+    ``PAD_GENERATORS_PER_DIM`` columns per coordinate, its oldest columns are enclosed in ``charge``.
+    Either is None when zero.
+    """
+    parts = [] if generators is None else [generators]
+    if pad is not None:
+        rows = np.flatnonzero(pad)
+        if rows.size:
+            D = np.zeros((pad.size, rows.size))
+            D[rows, np.arange(rows.size)] = pad[rows]
+            parts.append(D)
+    if not parts:
+        return None, None
+    X = np.hstack(parts) if len(parts) > 1 else parts[0]
+    image = np.asarray(M @ X)
+    error = product_error(M, X)
+    charge = rounded_up(np.asarray(error.sum(axis=1)).reshape(-1), X.shape[1])
+    n, q = image.shape
+    if q > PAD_GENERATORS_PER_DIM * n:
+        image, residual = _parallelotope(image)
+        charge = add(charge, residual)
+    keep = np.flatnonzero(np.abs(image).max(axis=0) > 0)
+    image = image[:, keep] if keep.size else None
+    return image, (charge if np.any(charge) else None)
+
+
+def _parallelotope(P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """An enclosure of Z(P) by n generators in P's own frame (Lohner's QR method): Z(P) ⊆
+    Z(fl(Q·diag(r))) ⊕ box(residual), with Q from a pivoted QR of P, R = fl(QᵀP) and r = |R|·1.
+
+    Z(P) = Z(QR) ⊕ Z(P − QR) ⊆ Q·box(r) ⊕ box(|P − QR|·1) holds for any Q and the computed R; the
+    residual box bounds |P − QR|·1 (rounding of QR and of the subtraction charged) and the rounding
+    of fl(Q·diag(r)). Boxing happens in the frame of the charges' dominant directions, so it does
+    not wrap like a box in the coordinate frame (the residual is at the rounding level of P itself).
+    """
+    import scipy.linalg
+
+    n, q = P.shape
+    Q = scipy.linalg.qr(P, pivoting=True, mode="economic")[0]
+    R = Q.T @ P
+    r = rounded_up(np.abs(R).sum(axis=1), q)
+    QR = Q @ R
+    difference, difference_error = sum_with_error(P, -QR)
+    residual = rounded_up((np.abs(difference) + difference_error
+                           + product_error(Q, R)).sum(axis=1), 3 * q)
+    generators = Q * r
+    residual = add(residual, product_error(Q, np.diag(r)).sum(axis=1))
+    return generators, residual
 
 
 def box_center_radius(lo: np.ndarray, hi: np.ndarray):

@@ -38,18 +38,24 @@ class Zonotope(ConvexSet):
         c = as_vector(c, "c", G.shape[0])
         self._init(G, c)
 
-    def _init(self, G: np.ndarray, c: np.ndarray, pad: np.ndarray | None = None) -> None:
+    def _init(self, G: np.ndarray, c: np.ndarray, pad: np.ndarray | None = None,
+              pad_generators: np.ndarray | None = None) -> None:
         self.G = mx.readonly(G)
         self.c = mx.readonly(c)
         self.dim = self.G.shape[0]
-        #: The algebra's rounding (`setsmooth.sets.rounding`): every point of the exact set is within
-        #: ``pad`` (componentwise) of a point of Z(G, c); None when nothing was rounded.
-        self.pad = None if pad is None else mx.readonly(pad)
+        # The algebra's rounding (`setsmooth.sets.rounding`): every point of the exact set is within
+        # box(pad) ⊕ Z(pad_generators) of a point of Z(G, c); linear maps carry the generators exactly.
+        self._pad_box = None if pad is None else mx.readonly(pad)
+        self._pad_generators = None if pad_generators is None else mx.readonly(pad_generators)
+        hull = rounding.pad_hull(pad, pad_generators)
+        #: The box hull of the rounding charges (componentwise); None when nothing was rounded.
+        self.pad = None if hull is None else mx.readonly(hull)
 
     @classmethod
-    def _trusted(cls, G: np.ndarray, c: np.ndarray, pad: np.ndarray | None = None) -> "Zonotope":
+    def _trusted(cls, G: np.ndarray, c: np.ndarray, pad: np.ndarray | None = None,
+                 pad_generators: np.ndarray | None = None) -> "Zonotope":
         obj = cls.__new__(cls)
-        obj._init(G, c, pad)
+        obj._init(G, c, pad, pad_generators)
         return obj
 
     def materialized(self) -> "Zonotope":
@@ -111,28 +117,35 @@ class Zonotope(ConvexSet):
         from .constrained_zonotope import ConstrainedZonotope
 
         return ConstrainedZonotope._trusted(self.G, self.c, np.zeros((0, self.ng)), np.zeros(0),
-                                            np.ones(self.ng), pad=self.pad)
+                                            np.ones(self.ng), pad=self._pad_box,
+                                            pad_generators=self._pad_generators)
 
     # -- closed-form algebra -----------------------------------------------------------------------
     def _closed_linear_map(self, M) -> "Zonotope":
         M = M.toarray() if sp.issparse(M) else M
-        pad, _ = rounding.linear_image(M, self.G, self.c, np.ones(self.ng), self.pad)
-        return Zonotope._trusted(M @ self.G, M @ self.c, pad)
+        fresh, _ = rounding.linear_image(M, self.G, self.c, np.ones(self.ng), None)
+        generators, carried = rounding.mapped_pad(M, self._pad_box, self._pad_generators)
+        return Zonotope._trusted(M @ self.G, M @ self.c, rounding.add(fresh, carried), generators)
 
     def _closed_translate(self, v: np.ndarray) -> "Zonotope":
         c, err = rounding.sum_with_error(self.c, v)
-        return Zonotope._trusted(self.G, c, rounding.add(self.pad, err if err.any() else None))
+        return Zonotope._trusted(self.G, c, rounding.add(self._pad_box, err if err.any() else None),
+                                 self._pad_generators)
 
     def _project(self, idx: np.ndarray) -> "Zonotope":
-        return Zonotope._trusted(self.G[idx], self.c[idx], None if self.pad is None else self.pad[idx])
+        return Zonotope._trusted(self.G[idx], self.c[idx],
+                                 None if self._pad_box is None else self._pad_box[idx],
+                                 None if self._pad_generators is None else self._pad_generators[idx])
 
     def _closed_sum(self, other):
         other = _as_zonotope(other)
         if other is None:
             return NotImplemented
         c, err = rounding.sum_with_error(self.c, other.c)
+        generators = [P for P in (self._pad_generators, other._pad_generators) if P is not None]
         return Zonotope._trusted(np.hstack([self.G, other.G]), c,
-                                 rounding.add(self.pad, other.pad, err if err.any() else None))
+                                 rounding.add(self._pad_box, other._pad_box, err if err.any() else None),
+                                 np.hstack(generators) if generators else None)
 
     def _closed_product(self, other):
         other = _as_zonotope(other)
