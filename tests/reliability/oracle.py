@@ -33,6 +33,10 @@ import setsmooth as ss
 #: HiGHS tolerances on the unit-scaled problem.
 HIGHS_OPTIONS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
 
+#: A vertex whose unit rows are off by more than this is polished before its value is read (most
+#: simplex vertices meet their rows to ~1e-15; the polish costs a dense least-squares solve).
+POLISH_ABOVE = 1e-13
+
 #: Warm starts need the unpresolved model (a presolved one restarts from scratch).
 _WARM_OPTIONS = {"presolve": "off", "solver": "simplex"}
 
@@ -211,9 +215,10 @@ class TrajectoryOracle:
         # whenever the polish brings the rows closer (an LP optimum moved onto the rows).
         rows = self._row_time <= upto
         E, f = self._E[rows], self._f[rows]
-        polished = polish(E, f, self._bounds, eta)
-        if residual(E, f, polished) < residual(E, f, eta):
-            eta = polished
+        if residual(E, f, eta) > POLISH_ABOVE:
+            polished = polish(E, f, self._bounds, eta)
+            if residual(E, f, polished) < residual(E, f, eta):
+                eta = polished
         value = base + float(obj @ eta)
         if not point:
             return value
