@@ -337,25 +337,17 @@ def test_a_hand_written_recursion_keeps_its_certified_hull_at_the_solvers_value(
     k = 30 the certified hull encloses the independent trajectory-LP oracle's and is within 1e-6 of
     its width; at k = 100 it is within 1e-6 of the width of the solver's own values and holds the
     true state."""
-    import control
-
+    from setsmooth.analysis.random_systems import random_observable_system
     from setsmooth.filters.classical import predict, update
     from tests.reliability.compare import TrajectoryOracle
 
     n, T = 10, 100
-    state = np.random.get_state()
-    try:
-        np.random.seed(2034)
-        while True:
-            plant = control.drss(n, n, n)
-            if np.linalg.matrix_rank(control.obsv(plant.A, plant.C)) == n:
-                break
-    finally:
-        np.random.set_state(state)
+    rng = np.random.default_rng(2034)
+    plant = random_observable_system(rng, n, n, n)
     box = ss.Box(-np.ones(n), np.ones(n))
     system = ss.LinearSystem(plant.A, plant.B, plant.C, np.eye(n), W=box, V=box)
     X0 = ss.Box(-10 * np.ones(n), 10 * np.ones(n))
-    xs, ys = ss.simulate(system, X0, T, np.random.default_rng(2034))
+    xs, ys = ss.simulate(system, X0, T, rng)
     post = None
     for k, y in enumerate(ys):
         post = update(system, k, X0 if k == 0 else predict(system, k - 1, post), y)
