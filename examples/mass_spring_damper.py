@@ -20,7 +20,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import setsmooth as ss  # noqa: E402
-from setsmooth.discretization import zoh_matrices  # noqa: E402
+from setsmooth.models.discretization import zoh_matrices  # noqa: E402
 
 omega, zeta = 2 * np.pi, 0.05
 plant = control.ss([[0.0, 1.0], [-omega ** 2, -2 * zeta * omega]],   # x = (position, velocity)

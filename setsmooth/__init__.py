@@ -23,15 +23,15 @@ _EXPORTS = {
                      "CORA_COMBASTEL", "VPolytope", "Containment", "is_subset",
                      "pontryagin_difference", "ChebyshevBall", "Polygon"], ".sets"),
     "SolverError": ".solvers",
-    **dict.fromkeys(["LinearSystem", "NonlinearSystem", "simulate"], ".systems"),
+    **dict.fromkeys(["LinearSystem", "NonlinearSystem", "simulate"], ".models"),
     **dict.fromkeys(["classical_filter", "interval_filter", "kalman_filter", "rts_smoother",
                      "KalmanResult", "oit_inspired_filter", "oit_cz_filter", "OITResult"], ".filters"),
     **dict.fromkeys(["optimal_smoother", "interval_smoother"], ".smoothers"),
     **dict.fromkeys(["trajectory_set", "filtering_map"], ".trajectories"),
     **dict.fromkeys(["LSUModel", "LSUResult", "lsu_cz_filter", "lsuo_filter", "lsup_filter",
                      "lsu_point_estimate"], ".filters.lsu"),
-    "IntervalEstimates": ".intervals",
-    **dict.fromkeys(["JointRange", "ScalarRelatedNoiseSystem"], ".related_noise"),
+    "IntervalEstimates": ".models.intervals",
+    **dict.fromkeys(["JointRange", "ScalarRelatedNoiseSystem"], ".models"),
     **dict.fromkeys(["joint_trajectory_set", "optimal_filter", "optimal_joint_smoother",
                      "augment_identical_process_noise"], ".filters.optimal"),
     **dict.fromkeys(["sampled_optimal_filter", "classical_interval_filter", "SampledRanges"],
@@ -43,7 +43,7 @@ _EXPORTS = {
     "paper_examples": ".paper_examples",
     "analysis": ".analysis",
     **dict.fromkeys(["observation_set", "observation_information_set", "observation_information_tower"],
-                    ".observation_information"),
+                    ".analysis.observation_information"),
 }
 
 __all__ = [
@@ -87,9 +87,9 @@ if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
     from .filters.lsu import (LSUModel, LSUResult, lsu_cz_filter, lsu_point_estimate, lsuo_filter,
                               lsup_filter)
     from .filters import OITResult, oit_cz_filter, oit_inspired_filter
-    from .intervals import IntervalEstimates
-    from .observation_information import (observation_information_set, observation_information_tower,
-                                          observation_set)
+    from .models.intervals import IntervalEstimates
+    from .analysis.observation_information import (observation_information_set,
+                                                   observation_information_tower, observation_set)
     from .results import SetEstimates
     from .sets import (Box, CartesianProduct, ConstrainedZonotope, ConvexSet, Ellipsoid, EmptySet,
                        GeneralizedIntersection, HPolytope, Intersection, LinearMap, MinkowskiSum, Reals,
@@ -100,10 +100,10 @@ if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
     from .sets import ChebyshevBall, Containment, VPolytope, is_subset, pontryagin_difference
     from .smoothers import interval_smoother, optimal_smoother
     from .solvers import SolverError
-    from .systems import LinearSystem, NonlinearSystem, simulate
+    from .models import LinearSystem, NonlinearSystem, simulate
     from .trajectories import filtering_map, trajectory_set
     from . import rethinking_examples
     from .filters.optimal import (augment_identical_process_noise, joint_trajectory_set, optimal_filter,
                                   optimal_joint_smoother)
     from .filters.sampled import SampledRanges, classical_interval_filter, sampled_optimal_filter
-    from .related_noise import JointRange, ScalarRelatedNoiseSystem
+    from .models import JointRange, ScalarRelatedNoiseSystem

@@ -92,7 +92,7 @@ SPECTRAL_CLUSTER_TOL = 1e-5
 #: is narrower than this fraction of 1 − ρ (the returned value is attained at a γ, so it stays a bound).
 UPSILON_GAMMA_TOL = 1e-6
 #: Relative error (to the largest entry) assumed of each matrix exponential computed by
-#: `scipy.linalg.expm` when bounding a continuous-time noise integral (`setsmooth.discretization`);
+#: `scipy.linalg.expm` when bounding a continuous-time noise integral (`setsmooth.models.discretization`);
 #: the bound uses the larger of this and the observed disagreement between e^{Aτ_j} and e^{Aδ/2}(e^{Aδ})^j.
 EXPM_RELATIVE_ERROR = 1e-13
 #: Relative rounding level of a set's coordinates in the default membership margin (`ConvexSet.contains`):

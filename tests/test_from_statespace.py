@@ -7,7 +7,7 @@ import scipy.integrate
 import scipy.linalg
 
 import setsmooth as ss
-from setsmooth.discretization import bounded_noise_set, zoh_matrices
+from setsmooth.models.discretization import bounded_noise_set, zoh_matrices
 
 # A lightly damped mass-spring-damper (1 Hz): sampled at Δ = 0.5 s, half a period, the worst-case
 # noise switches sign inside every sample interval.

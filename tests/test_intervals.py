@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import setsmooth as ss
-from setsmooth.intervals import IntervalEstimates, as_interval, eval_eta, noise_intervals
+from setsmooth.models.intervals import IntervalEstimates, as_interval, eval_eta, noise_intervals
 from setsmooth.paper_examples import eta_33, measurement_interval_34
 
 

@@ -11,7 +11,7 @@ to interval endpoint arithmetic:
 where the measurement-consistent interval is supplied by the caller (for y = 2x + v, v ∈ [1, 3]:
 x ∈ [(y − 3)/2, (y − 1)/2], smoothing paper (34)).
 
-An empty range is stored as ``lo = hi = nan`` (`setsmooth.intervals.IntervalEstimates`).
+An empty range is stored as ``lo = hi = nan`` (`setsmooth.models.intervals.IntervalEstimates`).
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from .._validation import real_array
-from ..intervals import IntervalEstimates, as_interval, eval_eta, noise_intervals
+from ..models.intervals import IntervalEstimates, as_interval, eval_eta, noise_intervals
 
 
 def interval_filter(eta: Callable[[float], float], w_interval: Any, x0_interval: Any, ys: Any,

@@ -50,7 +50,7 @@ def kalman_filter(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) -
     system : object
         Provides ``n`` (state dimension) and methods ``A(k)`` (n×n), ``B(k)`` (n×p), ``C(k)`` (m×n),
         ``D(k)`` (m×q) and ``input_term(k)`` (the known term u_k added to x_{k+1}, length n), as
-        `setsmooth.systems.LinearSystem` does.
+        `setsmooth.models.systems.LinearSystem` does.
     ys : array_like, shape (T+1, m)
         Measurements y_0..y_T (a 1-D array is accepted when m = 1).
     x0_mean : array_like, shape (n,)

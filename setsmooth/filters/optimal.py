@@ -1,7 +1,7 @@
 """The exact optimal filter and smoother of a linear system whose x_0 and noises have a joint range.
 
 For x_{k+1} = A_k x_k + B_k w_k + u_k, y_k = C_k x_k + D_k v_k (rethinking (23)–(24)) and a convex joint
-range J = ⟦x_0, w_{0:T−1}, v_{0:T}⟧ (`setsmooth.related_noise.JointRange`), Theorem 1's optimal posterior
+range J = ⟦x_0, w_{0:T−1}, v_{0:T}⟧ (`setsmooth.models.JointRange`), Theorem 1's optimal posterior
 ⟦x_k | y_{0:k}⟧ is the set of x_k over all ξ ∈ J that reproduce y_{0:k}: the projection on x_k of the set
 of trajectories consistent with the data under J,
 
@@ -35,7 +35,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .._validation import as_measurements
-from ..related_noise import JointRange
+from ..models.related_noise import JointRange
 from ..sets import rounding
 from ..sets.algebra import cartesian_product
 from ..sets.base import ConvexSet
@@ -43,7 +43,7 @@ from ..sets.box import Box
 from ..sets.constrained_zonotope import ConstrainedZonotope
 from ..sets.empty import EmptySet
 from ..sets.reals import Reals
-from ..systems import LinearSystem
+from ..models.systems import LinearSystem
 from .classical import _first_empty
 
 __all__ = ["joint_trajectory_set", "optimal_filter", "optimal_joint_smoother",

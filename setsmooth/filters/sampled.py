@@ -32,8 +32,8 @@ from typing import Any
 import numpy as np
 
 from .._validation import check_rng, real_array
-from ..intervals import IntervalEstimates
-from ..related_noise import ScalarRelatedNoiseSystem
+from ..models.intervals import IntervalEstimates
+from ..models.related_noise import ScalarRelatedNoiseSystem
 from .interval import interval_filter
 
 __all__ = ["SampledRanges", "sampled_optimal_filter", "classical_interval_filter"]

@@ -19,7 +19,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .._validation import real_number
-from ..intervals import IntervalEstimates, eval_eta, noise_intervals
+from ..models.intervals import IntervalEstimates, eval_eta, noise_intervals
 
 # brentq stops when the bracket is below _XTOL + _RTOL·|x|, i.e. at about machine precision.
 _XTOL = 1e-14

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from setsmooth.filters.interval import interval_filter
-from setsmooth.intervals import IntervalEstimates
+from setsmooth.models.intervals import IntervalEstimates
 
 W = (-1.0, 1.0)
 V = (1.0, 3.0)

@@ -26,7 +26,7 @@ import numpy as np
 
 from ...sets.empty import EmptySet
 from ...sets.reduction import EliminateConstraints, Girard, Rescale
-from ...systems import LinearSystem
+from ...models.systems import LinearSystem
 from ..classical import classical_filter
 from .estimates import POINT_ESTIMATES, summarize
 from .model import LSUModel

@@ -10,9 +10,9 @@ from typing import Any
 
 import numpy as np
 
-from ._validation import as_matrix, real_array, real_number
+from .._validation import as_matrix, real_array, real_number
 from .discretization import bounded_noise_set, zoh_matrices
-from .sets.base import ConvexSet
+from ..sets.base import ConvexSet
 
 _METHODS = ("zoh", "bounded")
 

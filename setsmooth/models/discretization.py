@@ -26,11 +26,11 @@ from typing import Any
 import numpy as np
 import scipy.linalg
 
-from . import tolerances as tol
-from ._validation import as_matrix, real_number
-from .sets.algebra import linear_map, minkowski_sum
-from .sets.base import ConvexSet
-from .sets.box import Box
+from .. import tolerances as tol
+from .._validation import as_matrix, real_number
+from ..sets.algebra import linear_map, minkowski_sum
+from ..sets.base import ConvexSet
+from ..sets.box import Box
 
 __all__ = ["bounded_noise_set", "zoh_matrices"]
 
@@ -106,7 +106,7 @@ def bounded_noise_set(A: Any, B: Any, W: ConvexSet, dt: float, *,
     Examples
     --------
     >>> import numpy as np, setsmooth as ss
-    >>> from setsmooth.discretization import bounded_noise_set
+    >>> from setsmooth.models.discretization import bounded_noise_set
     >>> Phi, R = bounded_noise_set([[0.0]], [[1.0]], ss.Box([-1.0], [1.0]), 0.5, partition=4)
     >>> [round(float(v), 12) for v in R.interval_hull().hi]   # ∫_0^0.5 1 dτ: the increment 0.5
     [0.5]

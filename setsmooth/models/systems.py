@@ -16,9 +16,9 @@ from typing import Any
 
 import numpy as np
 
-from ._validation import as_matrix, as_vector, check_dim, check_rng, real_array, real_number
-from .sets.algebra import linear_map
-from .sets.base import ConvexSet
+from .._validation import as_matrix, as_vector, check_dim, check_rng, real_array, real_number
+from ..sets.algebra import linear_map
+from ..sets.base import ConvexSet
 
 MatrixSpec = Any  # an array, a sequence of arrays indexed by k, or a callable k -> array
 
@@ -270,7 +270,7 @@ class LinearSystem:
 
         * ``'bounded'`` (the default): w(t) ∈ W at every instant, any measurable signal (it may switch
           sign inside a sample interval). The system is x_{k+1} = e^{AΔ} x_k + r_k + Γ_u u_k with
-          r_k in a sound outer bound of ∫_0^Δ e^{Aτ} B_w W dτ (`setsmooth.discretization.
+          r_k in a sound outer bound of ∫_0^Δ e^{Aτ} B_w W dτ (`setsmooth.models.discretization.
           bounded_noise_set`: a zonotope from ``partition`` pieces of the interval plus a certified
           remainder box). Its B is the identity and its W that n-dimensional set.
         * ``'zoh'``: w is constant on every sample interval, equal to w_k ∈ W there (a noise that

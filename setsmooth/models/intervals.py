@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from ._validation import real_array, real_number
+from .._validation import real_array, real_number
 
 __all__ = ["IntervalEstimates", "eval_eta", "noise_intervals", "as_interval"]
 

@@ -24,14 +24,14 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from . import tolerances as tol_policy
-from ._validation import as_matrix, as_vector, check_dim, check_rng
+from .. import tolerances as tol_policy
+from .._validation import as_matrix, as_vector, check_dim, check_rng
 from .intervals import as_interval
-from .sets.algebra import cartesian_product
-from .sets.base import ConvexSet
-from .sets.box import Box
-from .sets.constrained_zonotope import ConstrainedZonotope
-from .sets.hpolytope import HPolytope
+from ..sets.algebra import cartesian_product
+from ..sets.base import ConvexSet
+from ..sets.box import Box
+from ..sets.constrained_zonotope import ConstrainedZonotope
+from ..sets.hpolytope import HPolytope
 
 __all__ = ["JointRange", "ScalarRelatedNoiseSystem"]
 

@@ -15,9 +15,9 @@ from __future__ import annotations
 
 from typing import Any
 
-from ._validation import as_measurements
-from .sets.base import ConvexSet
-from .sets.reals import Reals
+from .._validation import as_measurements
+from ..sets.base import ConvexSet
+from ..sets.reals import Reals
 
 __all__ = ["observation_set", "observation_information_set", "observation_information_tower"]
 
