@@ -144,6 +144,8 @@ class PosteriorView(ConstrainedZonotope):
     h = property(lambda self: self._materialized().h)
     _factors = property(lambda self: self._materialized().factors)
     pad = property(lambda self: self._materialized().pad)
+    _pad_box = property(lambda self: self._materialized()._pad_box)
+    _pad_generators = property(lambda self: self._materialized()._pad_generators)
     pad_free = property(lambda self: self._materialized().pad_free)
     _slack = property(lambda self: self._materialized().slack)
     _slack_free = property(lambda self: self._materialized().slack_free)
