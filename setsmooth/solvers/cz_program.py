@@ -286,6 +286,26 @@ class CZProgram:
                                                    with_charge=True)
         return out, stored, own
 
+    def _free_units(self, pre) -> np.ndarray:
+        """Column units of the presolved program's factors for the membership program: 1 on bounded
+        factors (|η_B| ≤ 1), and β / s_j on free ones, β ≥ ‖ξ_F‖∞ the factor set's rigorous bound
+        (`FactorConstraints.free_bound`, when known or cheap), so every factor of the program is
+        O(1) in the set's own metric.
+
+        The presolve gives a free factor the units of its tightest row. On a thin set (a state
+        pinned to 1e-6 by a measurement of noise 1e-6, the others only by a prior box of size 5)
+        that put the free factors at |η_F| ~ 1e7, and Clarabel returned 'optimal' with distance 0.93
+        (in the set's units) for a member; in units of β it returns the margin itself.
+        """
+        units = np.ones(pre.A.shape[1])
+        if pre.bounded.all():
+            return units
+        beta = self.factors._cheap_free_bound()
+        if beta is not None and np.isfinite(beta) and beta > 0:
+            free = ~pre.bounded
+            units[free] = beta / pre.col_scale[free]
+        return units
+
     def contains(self, p: np.ndarray, margin: float) -> bool:
         """Whether some ξ with Aξ = b, |ξ| ≤ h has ‖Gξ + c − p‖∞ ≤ margin.
 
@@ -303,8 +323,11 @@ class CZProgram:
             return False
         M, rhs, _ = self.factors._program(pre)  # the presolved factor set: rows Âη = b̂, |η_B| ≤ 1
         m, nvar = pre.A.shape[0], pre.A.shape[1]
+        units = self._free_units(pre)
+        M = sp.csc_matrix(M @ sp.diags(units))
         G = self.G[:, pre.cols]
-        G = sp.csc_matrix(G @ sp.diags(pre.col_scale)) if sp.issparse(G) else G * pre.col_scale
+        scale = pre.col_scale * units
+        G = sp.csc_matrix(G @ sp.diags(scale)) if sp.issparse(G) else G * scale
         n = G.shape[0]
         ones = sp.csc_matrix(np.ones((n, 1)))
         t_row = sp.csc_matrix(([-1.0], ([0], [nvar])), shape=(1, nvar + 1))

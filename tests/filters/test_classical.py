@@ -107,3 +107,26 @@ def test_emptiness_is_settled_by_one_program_per_data_set_with_the_per_step_answ
     first = len(ys) if bad_step is None else bad_step
     assert per_step == [k >= first for k in range(len(ys))]
     assert len(calls) == 1 if bad_step is None else len(calls) <= 1 + int(np.ceil(np.log2(len(ys))))
+
+
+def test_thin_posteriors_of_precise_sensors_contain_the_true_state():
+    """Noise 1e-6 beside a prior box of size 5: the posteriors are slivers 2e-6 thin across the
+    measured directions. The default filter's views (free factors: the states) rejected the true
+    state at k = 0 in 11 of 12 systems, at any tolerance, while their hulls held it: the membership
+    program had the states in the units of the thin measurement rows (|η| ~ 1e7). Every posterior
+    of every system now holds the truth, and its certified hull holds it too."""
+    from setsmooth.analysis.random_systems import random_observable_system
+
+    rng = np.random.default_rng(61)
+    for _ in range(8):
+        n, m = 4, 2
+        plant = random_observable_system(rng, n, n, m)
+        W, V = ss.Box(-1e-6 * np.ones(n), 1e-6 * np.ones(n)), ss.Box(-1e-6 * np.ones(m), 1e-6 * np.ones(m))
+        system = ss.LinearSystem(plant.A, np.eye(n), plant.C, np.eye(m), W=W, V=V)
+        X0 = ss.Box(-5 * np.ones(n), 5 * np.ones(n))
+        xs, ys = ss.simulate(system, X0, 4, rng)
+        posteriors = ss.classical_filter(system, X0, ys)
+        for k, (post, x) in enumerate(zip(posteriors, xs)):
+            assert post.contains(x), k
+            hull = post.interval_hull(certified=True)
+            assert np.all(hull.lo <= x) and np.all(x <= hull.hi), k
