@@ -531,8 +531,7 @@ class FactorConstraints:
         warm simplex method has also run out of time on them in this batch, the batch's later
         bracketed and escalated directions come here directly (`_relaxed_batch`)."""
         m, p = pre.A.shape
-        rho = max(self._phase_one or 0.0, 0.0) + tol.EMPTINESS_TOL * (1.0 + np.abs(pre.b).max(
-            initial=0.0))
+        rho = max(self._phase_one or 0.0, 0.0) + tol.EMPTINESS_TOL * pre.data_scale
         M, rhs, _ = self._program(pre)
         rows = sp.vstack([pre.A, -pre.A, M[m:]], format="csc")
         r = np.concatenate([pre.b + rho, rho - pre.b, rhs[m:]])
@@ -580,7 +579,7 @@ class FactorConstraints:
             if name == "Solved":
                 eta[first.bounded] = np.clip(eta[first.bounded], -1.0, 1.0)
                 upper = float(np.abs(first.A @ eta - first.b).max(initial=0.0))
-                if upper <= tol.EMPTINESS_TOL * (1.0 + np.abs(first.b).max(initial=0.0)):
+                if upper <= tol.EMPTINESS_TOL * first.data_scale:
                     self._phase_one = upper
                     return False
         attempts = [(first, False), (first, True)]
@@ -600,7 +599,7 @@ class FactorConstraints:
             if m == 0:
                 self._phase_one = 0.0
                 return False
-            limit = tol.EMPTINESS_TOL * (1.0 + np.abs(pre.b).max(initial=0.0))
+            limit = tol.EMPTINESS_TOL * pre.data_scale
             M, rhs, _ = self._program(pre)
             ones = sp.csc_matrix(np.ones((m, 1)))
             nb2 = M.shape[0] - m
