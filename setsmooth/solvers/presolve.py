@@ -140,7 +140,7 @@ class Presolved:
     A : csc_matrix, shape (m, p)
         Â = R A[rows][:, cols] S.
     b : ndarray, shape (m,)
-        b̂ = R b[rows].
+        b̂ = R b[rows] − Â η⁰ (η⁰ = ``shift``, zero when None).
     rows : ndarray of int
         The original rows kept.
     cols : ndarray of int
