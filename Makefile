@@ -21,7 +21,7 @@ examples: $(STAMP)
 	@for f in examples/*.py; do echo "== $$f"; MPLBACKEND=Agg $(PY) $$f || exit 1; done
 
 figures: examples
-	MPLBACKEND=Agg $(PY) -m setsmooth.cli figures
+	MPLBACKEND=Agg $(PY) -m setsmooth figures
 
 bench: $(STAMP)
 	$(PY) benchmarks/bench_support.py

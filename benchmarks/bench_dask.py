@@ -1,7 +1,7 @@
 """The same Monte-Carlo runs on the default process pool and on a 2-worker local Dask cluster.
 
 Runs the trials of smoothing Figs. 6 (many cheap runs) and 3 (fewer, heavier runs) through
-`setsmooth.montecarlo.run` with ``executor=None`` (a 2-process pool started per call, as the figure
+`setsmooth.runs.montecarlo.run` with ``executor=None`` (a 2-process pool started per call, as the figure
 scripts do) and with a ``dask.distributed.Client`` on a ``LocalCluster`` of 2 worker processes on
 loopback (started once; its start-up time is printed apart). Prints median wall times over
 ``--repeats`` and the ratio Dask / pool, and checks that both give bit-identical results.
@@ -24,7 +24,7 @@ from distributed import Client, LocalCluster  # noqa: E402
 
 import smoothing_fig3  # noqa: E402
 import smoothing_fig6  # noqa: E402
-from setsmooth.montecarlo import run  # noqa: E402
+from setsmooth.runs.montecarlo import run  # noqa: E402
 
 
 def timed(trial, runs: int, executor, repeats: int) -> tuple[float, list]:

@@ -56,7 +56,7 @@ def _example_31(B_identity_triangle: bool = False):
     import numpy as np
 
     import setsmooth as ss
-    from setsmooth.paper_examples import smoothing_example_31
+    from setsmooth.papers.smoothing_examples import smoothing_example_31
 
     base = smoothing_example_31()
     if not B_identity_triangle:
@@ -68,7 +68,7 @@ def _example_31(B_identity_triangle: bool = False):
 
 def _custom_system():
     import setsmooth as ss
-    from setsmooth.paper_examples import smoothing_example_31
+    from setsmooth.papers.smoothing_examples import smoothing_example_31
     from tests.custom_sets import L1Ball, VPolytope
 
     base = smoothing_example_31()

@@ -23,7 +23,7 @@ import time
 import numpy as np
 
 import setsmooth as ss
-from setsmooth.rethinking_examples import eta_27, rethinking_example_27
+from setsmooth.papers.rethinking_examples import eta_27, rethinking_example_27
 
 
 def loop_filter(system, ys: np.ndarray, rng: np.random.Generator, N: int) -> tuple[np.ndarray, np.ndarray]:

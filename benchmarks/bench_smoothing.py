@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 import setsmooth as ss
-from setsmooth.paper_examples import smoothing_example_31, smoothing_example_31_x0
+from setsmooth.papers.smoothing_examples import smoothing_example_31, smoothing_example_31_x0
 
 
 def three_state_system() -> ss.LinearSystem:

@@ -17,7 +17,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import setsmooth as ss  # noqa: E402
-from setsmooth.paper_examples import smoothing_example_31  # noqa: E402
+from setsmooth.papers.smoothing_examples import smoothing_example_31  # noqa: E402
 
 system = smoothing_example_31()          # smoothing paper (31): a rotation, ⟦w⟧ = [−1, 1], ⟦v⟧ = [−1, 1]²
 X0 = ss.Box([-5, -5], [5, 5])

@@ -17,7 +17,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import setsmooth as ss  # noqa: E402
-from setsmooth.paper_examples import smoothing_example_31  # noqa: E402
+from setsmooth.papers.smoothing_examples import smoothing_example_31  # noqa: E402
 
 system = smoothing_example_31()                  # Φ, Γ, Ξ, Ψ = I; W = [−1, 1], V = [−1, 1]²
 Phi, Gamma, C = system.A(0), system.B(0), system.C(0)

@@ -5,7 +5,7 @@ A figure script ``<paper>_<figure>.py`` in this directory defines
 * ``NAME`` (its file stem: the outputs are ``<NAME>.png`` and ``<NAME>.json``), ``PAPER`` (the short
   name of its paper in ``/papers/INDEX.md``: ``smoothing``, ``stability``, ...) and ``DEFAULT_RUNS``;
 * ``main(runs, seed, out, workers, progress, executor) -> dict``, which runs the Monte Carlo
-  (`setsmooth.montecarlo.run`), builds the figure and returns `finish(...)`;
+  (`setsmooth.runs.montecarlo.run`), builds the figure and returns `finish(...)`;
 * ``if __name__ == "__main__": cli(main, DEFAULT_RUNS, __doc__.splitlines()[0])``.
 
 The JSON written by `finish` holds the plotted numbers plus the keys the report reads: ``paper``,
@@ -13,7 +13,7 @@ The JSON written by `finish` holds the plotted numbers plus the keys the report 
 ``published``, ``notes``, ``wall_time_s`` and ``cpu_time_s``. Every figure is written as ``<NAME>.png``
 (the report embeds it) and also in the vector formats named by ``$SETSMOOTH_FIGURE_FORMATS``
 (comma-separated, from ``setsmooth figures --format pdf,svg`` or a script's own ``--format``): PDF and
-SVG for papers. ``setsmooth figures`` (`setsmooth.cli`)
+SVG for papers. ``setsmooth figures`` (`setsmooth.runs.cli`)
 runs the scripts and then ``report.py``, which groups the rows by paper; each paper's conventions
 (``REPORT_PREAMBLE``, ``PAPER_TITLE``) live in its ``_<paper>_examples.py``.
 """
@@ -29,13 +29,13 @@ from typing import Any, Callable
 
 import numpy as np
 
-from setsmooth.cli import FORMATS_ENV, parse_formats
+from setsmooth.runs.cli import FORMATS_ENV, parse_formats
 
 DEFAULT_OUT = Path(__file__).resolve().parent / "out"
 
 
 def figure_formats() -> tuple[str, ...]:
-    """The formats to write: PNG plus those of ``$SETSMOOTH_FIGURE_FORMATS`` (`setsmooth.cli`)."""
+    """The formats to write: PNG plus those of ``$SETSMOOTH_FIGURE_FORMATS`` (`setsmooth.runs.cli`)."""
     return tuple(parse_formats(os.environ.get(FORMATS_ENV, "")))
 
 

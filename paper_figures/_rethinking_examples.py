@@ -1,15 +1,15 @@
 """What the rethinking paper's figure scripts share: its settings, published numbers and conventions.
 
-The example systems live in `setsmooth.rethinking_examples` (one definition for figures, tests and docs);
-this module adds the paper's run sizes, the published numbers and the report's conventions.
+The example systems live in `setsmooth.papers.rethinking_examples` (one definition for figures, tests and
+docs); this module adds the paper's run sizes, the published numbers and the report's conventions.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from setsmooth.rethinking_examples import (RETHINKING_27_V, RETHINKING_27_W, RETHINKING_27_X0,
-                                           RETHINKING_30_X0)
+from setsmooth.papers.rethinking_examples import (RETHINKING_27_V, RETHINKING_27_W, RETHINKING_27_X0,
+                                                  RETHINKING_30_X0)
 
 PAPER = "rethinking"
 PAPER_TITLE = ("Rethinking paper — Cong, Wang, Zhou, *Rethinking the Mathematical Framework and Optimality "
@@ -48,8 +48,8 @@ Conventions shared by these figures:
 - Example (27)–(28): ⟦x_0⟧ = [{x0[0]:g}, {x0[1]:g}], ⟦w_k⟧ = [{w[0]:g}, {w[1]:g}], ⟦v_k⟧ = [{v[0]:g}, {v[1]:g}].
   The text's ⟦v_k | w_(k−1)⟧ = [0, 2 − w_(k−1)] and Algorithm 2's test y_k/x_k ∈ [0, 1 − 2w_(k−1)] are
   inconsistent with ⟦v_k⟧ = [1, 2] and with Algorithm 1's update [y/2, y] (law of total range (9)); we
-  read ⟦v_k | w_(k−1)⟧ = [1, 2 − w_(k−1)] (`setsmooth.rethinking_examples`). With it the classical range
-  holds the true state in every run; with the printed [0, 2 − w] it does not.
+  read ⟦v_k | w_(k−1)⟧ = [1, 2 − w_(k−1)] (`setsmooth.papers.rethinking_examples`). With it the classical
+  range holds the true state in every run; with the printed [0, 2 − w] it does not.
 - Example (30)–(31): ⟦x_0⟧ = [{x30:g}, {x30b:g}]², ⟦w⟧ = ⟦v_k⟧ = [−1, 1], one identical w. (32) prints
   D = 0 but (31) adds v_k; we take D = 1 (with D = 0 the posteriors are segments and area ratios are
   undefined). The classical filter is `classical_filter` (exact CZs); the optimal one `optimal_filter`

@@ -1,8 +1,8 @@
 """What the smoothing paper's figure scripts share: its settings, conventions and statistics.
 
-The example systems themselves live in `setsmooth.paper_examples` (one definition for figures, tests,
-benchmarks and docs); this module names them as the figure scripts use them and adds the paper's run
-sizes, the report's conventions (`REPORT_PREAMBLE`) and the statistics Figs. 3 and 6 share. All noises
+The example systems themselves live in `setsmooth.papers.smoothing_examples` (one definition for figures,
+tests, benchmarks and docs); this module names them as the figure scripts use them and adds the paper's
+run sizes, the report's conventions (`REPORT_PREAMBLE`) and the statistics Figs. 3 and 6 share. All noises
 are uniform on their ranges (paper footnote 3); x_0 is drawn uniformly from ⟦x_0⟧.
 """
 
@@ -11,9 +11,10 @@ from __future__ import annotations
 import numpy as np
 
 import setsmooth as ss
-from setsmooth.paper_examples import (SMOOTHING_31_X0, SMOOTHING_33_V, SMOOTHING_33_W, SMOOTHING_33_X0,
-                                      eta_33, eta_33_inverse, measurement_interval_34, smoothing_example_31,
-                                      smoothing_example_31_x0, smoothing_example_33)
+from setsmooth.papers.smoothing_examples import (SMOOTHING_31_X0, SMOOTHING_33_V, SMOOTHING_33_W,
+                                                 SMOOTHING_33_X0, eta_33, eta_33_inverse,
+                                                 measurement_interval_34, smoothing_example_31,
+                                                 smoothing_example_31_x0, smoothing_example_33)
 
 from _outputs import row
 
@@ -120,7 +121,7 @@ value or qualitative claim beside ours; the plotted numbers are in `<name>.json`
 Conventions shared by these figures:
 - Noises are uniform on their ranges (paper footnote 3). The paper does not state the initial range
   ⟦x_0⟧; we use {x0_linear} for the linear example (31) and {x0_nonlinear} for the nonlinear
-  example (33)–(34) (`setsmooth.paper_examples`), and draw x_0 uniformly from it.
+  example (33)–(34) (`setsmooth.papers.smoothing_examples`), and draw x_0 uniformly from it.
 - Posterior and smoothed ranges of (31) are those of Algorithm 1 (the optimal SMF and eq. (24)),
   computed exactly with polygons in closed form (`classical_filter(form="polygon")`, then
   `optimal_smoother(method="recursion")` on its posteriors: each polygon contains the exact range and

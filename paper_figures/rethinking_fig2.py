@@ -22,7 +22,7 @@ import numpy as np
 
 import setsmooth as ss
 from setsmooth import montecarlo
-from setsmooth.rethinking_examples import optimal_ranges_27, rethinking_example_27
+from setsmooth.papers.rethinking_examples import optimal_ranges_27, rethinking_example_27
 
 import _rethinking_examples as ex
 from _outputs import Stopwatch, cli, finish, row

@@ -17,8 +17,8 @@ import numpy as np
 
 import setsmooth as ss
 from setsmooth import montecarlo
-from setsmooth.rethinking_examples import (rethinking_example_30, rethinking_example_30_joint_range,
-                                           rethinking_example_30_x0)
+from setsmooth.papers.rethinking_examples import (rethinking_example_30, rethinking_example_30_joint_range,
+                                                  rethinking_example_30_x0)
 
 import _rethinking_examples as ex
 from _outputs import Stopwatch, cli, finish, row

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
 
-#: Public name -> the submodule defining it (a name equal to its module's last part is the module).
+#: Public name -> the submodule defining it.
 _EXPORTS = {
     **dict.fromkeys(["ConvexSet", "Box", "Zonotope", "ConstrainedZonotope", "HPolytope", "Ellipsoid",
                      "EmptySet", "Reals", "LinearMap", "MinkowskiSum", "Intersection",
@@ -36,14 +36,18 @@ _EXPORTS = {
                      "augment_identical_process_noise"], ".filters.optimal"),
     **dict.fromkeys(["sampled_optimal_filter", "classical_interval_filter", "SampledRanges"],
                     ".filters.sampled"),
-    "rethinking_examples": ".rethinking_examples",
     "SetEstimates": ".results",
-    "references": ".references",
-    "montecarlo": ".montecarlo",
-    "paper_examples": ".paper_examples",
-    "analysis": ".analysis",
     **dict.fromkeys(["observation_set", "observation_information_set", "observation_information_tower"],
                     ".analysis.observation_information"),
+}
+
+#: Public names that are modules -> the module.
+_MODULES = {
+    "analysis": ".analysis",
+    "montecarlo": ".runs.montecarlo",
+    "paper_examples": ".papers.smoothing_examples",
+    "rethinking_examples": ".papers.rethinking_examples",
+    "references": ".papers.references",
 }
 
 __all__ = [
@@ -67,11 +71,12 @@ __all__ = [
 
 
 def __getattr__(name: str) -> Any:
-    target = _EXPORTS.get(name)
-    if target is None:
+    if name in _MODULES:
+        value = import_module(_MODULES[name], __name__)
+    elif name in _EXPORTS:
+        value = getattr(import_module(_EXPORTS[name], __name__), name)
+    else:
         raise AttributeError(f"module 'setsmooth' has no attribute {name!r}")
-    module = import_module(target, __name__)
-    value = module if target == f".{name}" else getattr(module, name)
     globals()[name] = value  # later look-ups are plain attribute reads
     return value
 
@@ -81,9 +86,11 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
-    from . import analysis, montecarlo, paper_examples
+    from . import analysis
+    from .papers import smoothing_examples as paper_examples
+    from .runs import montecarlo
     from .filters import KalmanResult, classical_filter, interval_filter, kalman_filter, rts_smoother
-    from . import references
+    from .papers import references
     from .filters.lsu import (LSUModel, LSUResult, lsu_cz_filter, lsu_point_estimate, lsuo_filter,
                               lsup_filter)
     from .filters import OITResult, oit_cz_filter, oit_inspired_filter
@@ -102,7 +109,7 @@ if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
     from .solvers import SolverError
     from .models import LinearSystem, NonlinearSystem, simulate
     from .trajectories import filtering_map, trajectory_set
-    from . import rethinking_examples
+    from .papers import rethinking_examples
     from .filters.optimal import (augment_identical_process_noise, joint_trajectory_set, optimal_filter,
                                   optimal_joint_smoother)
     from .filters.sampled import SampledRanges, classical_interval_filter, sampled_optimal_filter

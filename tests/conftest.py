@@ -10,7 +10,7 @@ import importlib
 import pytest
 from hypothesis import settings
 
-from setsmooth import cli
+from setsmooth.runs import cli
 
 settings.register_profile("deterministic", derandomize=True, database=None)
 settings.register_profile("explore", derandomize=False)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 import setsmooth as ss
-from setsmooth.paper_examples import smoothing_example_31
+from setsmooth.papers.smoothing_examples import smoothing_example_31
 
 example_31 = smoothing_example_31  # the one definition of (31), under the name the tests use
 

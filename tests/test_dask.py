@@ -17,7 +17,7 @@ import pytest
 distributed = pytest.importorskip("distributed", reason="the setsmooth[dask] extra is not installed")
 
 import setsmooth as ss  # noqa: E402
-from setsmooth.montecarlo import run  # noqa: E402
+from setsmooth.runs.montecarlo import run  # noqa: E402
 
 
 def draw(rng: np.random.Generator) -> np.ndarray:
@@ -122,7 +122,7 @@ def _figure_numbers(path: Path) -> dict:
 
 
 def test_figures_command_on_a_scheduler_equals_a_serial_run(client, tmp_path: Path):
-    from setsmooth import cli
+    from setsmooth.runs import cli
 
     address = client.scheduler.address
     assert cli.main(["figures", "smoothing_fig6", "--runs", "20", "--no-progress",
@@ -134,7 +134,7 @@ def test_figures_command_on_a_scheduler_equals_a_serial_run(client, tmp_path: Pa
 
 
 def test_scheduler_and_workers_together_are_refused(capsys):
-    from setsmooth import cli
+    from setsmooth.runs import cli
 
     with pytest.raises(SystemExit):
         cli.main(["figures", "--scheduler", "tcp://127.0.0.1:1", "--workers", "2"])

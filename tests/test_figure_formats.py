@@ -11,7 +11,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import pytest  # noqa: E402
 
-from setsmooth import cli  # noqa: E402
+from setsmooth.runs import cli  # noqa: E402
 
 FIGURES = Path(__file__).resolve().parents[1] / "paper_figures"
 

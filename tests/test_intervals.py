@@ -5,7 +5,7 @@ import pytest
 
 import setsmooth as ss
 from setsmooth.models.intervals import IntervalEstimates, as_interval, eval_eta, noise_intervals
-from setsmooth.paper_examples import eta_33, measurement_interval_34
+from setsmooth.papers.smoothing_examples import eta_33, measurement_interval_34
 
 
 def test_filter_and_smoother_exchange_one_estimates_type():

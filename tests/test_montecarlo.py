@@ -9,7 +9,7 @@ from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 import numpy as np
 import pytest
 
-from setsmooth.montecarlo import run
+from setsmooth.runs.montecarlo import run
 
 
 def draw(rng):

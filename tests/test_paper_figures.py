@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from setsmooth import cli
+from setsmooth.runs import cli
 from tests.figure_helpers import written
 
 TINY_GRID = (0.03, 0.3)

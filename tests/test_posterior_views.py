@@ -12,7 +12,7 @@ from setsmooth.filters.classical import predict, update
 
 #: A horizon long enough for the views' sharing to matter (the recursion is O(T³)).
 HORIZON = 64
-from setsmooth.paper_examples import smoothing_example_31
+from setsmooth.papers.smoothing_examples import smoothing_example_31
 from setsmooth.trajectories.posterior_views import PosteriorView, posterior_views
 from setsmooth.sets.algebra import generalized_intersection, minkowski_sum
 from setsmooth.solvers import instances

@@ -124,8 +124,8 @@ def optimal_filter(system, joint_range: JointRange, ys: Any, *, detect_empty: bo
     Examples
     --------
     >>> import setsmooth as ss
-    >>> from setsmooth.rethinking_examples import (rethinking_example_30, rethinking_example_30_x0,
-    ...                                            rethinking_example_30_joint_range)
+    >>> from setsmooth.papers.rethinking_examples import (rethinking_example_30, rethinking_example_30_x0,
+    ...                                                   rethinking_example_30_joint_range)
     >>> system, X0 = rethinking_example_30(), rethinking_example_30_x0()
     >>> ys = [[0.0], [0.5], [1.5], [3.0], [4.0]]
     >>> optimal = ss.optimal_filter(system, rethinking_example_30_joint_range(4), ys)

@@ -98,7 +98,7 @@ def classical_interval_filter(system: ScalarRelatedNoiseSystem, ys: Any) -> Inte
 
     Examples
     --------
-    >>> from setsmooth.rethinking_examples import rethinking_example_27
+    >>> from setsmooth.papers.rethinking_examples import rethinking_example_27
     >>> r = classical_interval_filter(rethinking_example_27(), [1.0, 2.0])
     >>> r.lo.tolist(), [round(float(v), 6) for v in r.hi]     # [0.5, 1] ∩ [0, 1], then [1, 2] ∩ [η(0.5), η(1) + 1]
     ([0.5, 1.0], [1.0, 2.0])
@@ -149,7 +149,7 @@ def sampled_optimal_filter(system: ScalarRelatedNoiseSystem, ys: Any, rng: np.ra
     Examples
     --------
     >>> import numpy as np
-    >>> from setsmooth.rethinking_examples import rethinking_example_27
+    >>> from setsmooth.papers.rethinking_examples import rethinking_example_27
     >>> system = rethinking_example_27()
     >>> xs, ys = system.simulate(10, np.random.default_rng(0), runs=4)
     >>> sampled = sampled_optimal_filter(system, ys, np.random.default_rng(1), n_samples=500)

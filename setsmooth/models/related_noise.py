@@ -237,7 +237,7 @@ class ScalarRelatedNoiseSystem:
 
     Examples
     --------
-    >>> from setsmooth.rethinking_examples import rethinking_example_27
+    >>> from setsmooth.papers.rethinking_examples import rethinking_example_27
     >>> system = rethinking_example_27()
     >>> system.v_given_w(np.array([0.25]))     # ⟦v_k | w_{k−1} = 0.25⟧ = [1, 2 − 0.25]
     (array([1.]), array([1.75]))

@@ -17,8 +17,8 @@ import pytest
 from scipy.spatial import ConvexHull
 
 import setsmooth as ss
-from setsmooth.rethinking_examples import (rethinking_example_30, rethinking_example_30_joint_range,
-                                           rethinking_example_30_x0)
+from setsmooth.papers.rethinking_examples import (rethinking_example_30, rethinking_example_30_joint_range,
+                                                  rethinking_example_30_x0)
 
 DIRECTIONS = np.array([[np.cos(t), np.sin(t)] for t in np.linspace(0, 2 * np.pi, 24, endpoint=False)])
 

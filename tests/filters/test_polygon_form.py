@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import setsmooth as ss
-from setsmooth.paper_examples import smoothing_example_31, smoothing_example_31_x0
+from setsmooth.papers.smoothing_examples import smoothing_example_31, smoothing_example_31_x0
 from tests.sets import polygon_reference as ref
 from tests.test_posterior_views import highs_support
 

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import setsmooth as ss
-from setsmooth.rethinking_examples import eta_27, optimal_ranges_27, rethinking_example_27
+from setsmooth.papers.rethinking_examples import eta_27, optimal_ranges_27, rethinking_example_27
 
 SYSTEM = rethinking_example_27()
 ROUND = 1e-12      # relative rounding slack when comparing endpoints computed two ways

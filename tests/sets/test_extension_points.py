@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import setsmooth as ss
-from setsmooth.paper_examples import smoothing_example_31_x0
+from setsmooth.papers.smoothing_examples import smoothing_example_31_x0
 from tests.estimation_helpers import example_31
 
 

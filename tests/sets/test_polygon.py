@@ -93,8 +93,9 @@ def test_thin_posterior_far_from_the_origin_gives_one_convex_loop():
     """Rethinking example (30) at k = 20 (seeded run 6 of Fig. 3): a posterior about 1 wide at |x| ~ 150
     whose support points come from a CVXPY program; the walk once wound round it 60 times (391 points,
     shoelace area 7.82 for a polygon of area 0.117)."""
-    from setsmooth.rethinking_examples import (rethinking_example_30, rethinking_example_30_joint_range,
-                                               rethinking_example_30_x0)
+    from setsmooth.papers.rethinking_examples import (rethinking_example_30,
+                                                      rethinking_example_30_joint_range,
+                                                      rethinking_example_30_x0)
 
     rng = np.random.default_rng(np.random.SeedSequence(0, spawn_key=(6,)))
     system, X0 = rethinking_example_30(), rethinking_example_30_x0()

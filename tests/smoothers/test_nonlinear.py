@@ -7,8 +7,8 @@ import pytest
 
 from setsmooth.filters.interval import interval_filter
 from setsmooth.models.intervals import IntervalEstimates
-from setsmooth.paper_examples import (SMOOTHING_33_V, SMOOTHING_33_W, eta_33, eta_33_inverse,
-                                      measurement_interval_34)
+from setsmooth.papers.smoothing_examples import (SMOOTHING_33_V, SMOOTHING_33_W, eta_33, eta_33_inverse,
+                                                 measurement_interval_34)
 from setsmooth.smoothers.nonlinear import interval_smoother, invert_increasing
 
 W = SMOOTHING_33_W

@@ -22,9 +22,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .models.related_noise import JointRange, ScalarRelatedNoiseSystem
-from .sets.box import Box
-from .models.systems import LinearSystem
+from ..models.related_noise import JointRange, ScalarRelatedNoiseSystem
+from ..sets.box import Box
+from ..models.systems import LinearSystem
 
 __all__ = ["RETHINKING_27_X0", "RETHINKING_27_W", "RETHINKING_27_V", "eta_27", "v_given_w_27",
            "rethinking_example_27", "optimal_ranges_27",

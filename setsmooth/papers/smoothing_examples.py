@@ -17,8 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .sets.box import Box
-from .models.systems import LinearSystem, NonlinearSystem
+from ..sets.box import Box
+from ..models.systems import LinearSystem, NonlinearSystem
 
 __all__ = ["smoothing_example_31", "smoothing_example_31_x0", "SMOOTHING_31_X0", "smoothing_example_33",
            "eta_33", "eta_33_inverse", "measurement_interval_34", "SMOOTHING_33_X0", "SMOOTHING_33_W",

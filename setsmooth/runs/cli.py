@@ -54,7 +54,7 @@ def find_figures_dir() -> Path:
         raise FileNotFoundError(f"${ENV_VAR} = {env!r} is not a paper_figures directory "
                                 f"(no {REPORT_MODULE}.py in it)")
     cwd = Path.cwd().resolve()
-    for base in (cwd, *cwd.parents, Path(__file__).resolve().parents[1]):
+    for base in (cwd, *cwd.parents, Path(__file__).resolve().parents[2]):
         candidate = base / FIGURES_DIRNAME
         tried.append(candidate)
         if (candidate / f"{REPORT_MODULE}.py").is_file():
@@ -108,7 +108,7 @@ def run_figures(names: list[str], figures_dir: Path, out: Path, runs: int | None
     """Run the named figure scripts, then write the report; return (wall times or errors, report path).
 
     ``executor`` (a `concurrent.futures.Executor` or a ``dask.distributed.Client``) is passed to every
-    script's ``main`` and so to `setsmooth.montecarlo.run`; None lets each script start its own pool.
+    script's ``main`` and so to `setsmooth.runs.montecarlo.run`; None lets each script start its own pool.
     A Dask client's workers first receive the figure scripts (``Client.upload_file``): they unpickle
     the trials by module name, and a remote worker has only the installed ``setsmooth``.
     ``formats``: the image formats of every figure (PNG always; e.g. ``['png', 'pdf']``), passed
@@ -212,7 +212,7 @@ def main(argv: list[str] | None = None) -> int:
     start = time.perf_counter()
     client = None
     if args.scheduler is not None:
-        from .dask_runs import connect
+        from .dask_cluster import connect
 
         try:
             client = connect(args.scheduler)

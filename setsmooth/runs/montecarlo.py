@@ -44,7 +44,7 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int,
         None: a `ProcessPoolExecutor` with ``workers`` processes, created and shut down here (a single
         run is executed in-process). 'serial': every run in this process, in order. An `Executor`
         instance is used as is and left running. A ``dask.distributed.Client`` (the ``setsmooth[dask]``
-        extra) sends chunks of runs to its cluster as tasks (`setsmooth.dask_runs`); a worker lost
+        extra) sends chunks of runs to its cluster as tasks (`setsmooth.runs.dask_cluster`); a worker lost
         mid-run has its tasks recomputed, with the same results, and the client is left open.
     progress : bool
         Show a tqdm progress bar.
@@ -87,7 +87,7 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int,
     if serial or (executor is None and n_runs == 1):
         return [result for result in bar(map(call, seeds))]
     if dask_client:
-        from .dask_runs import run_chunks
+        from .dask_cluster import run_chunks
 
         n_workers = max(1, len(executor.scheduler_info().get("workers", {})))
         return run_chunks(executor, call, seeds, bar, _chunksize(n_runs, n_workers))

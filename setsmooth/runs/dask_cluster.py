@@ -1,6 +1,6 @@
 """Monte Carlo runs on a Dask cluster (the optional ``setsmooth[dask]`` extra).
 
-`setsmooth.montecarlo.run` sends its runs here when it is given a ``dask.distributed.Client``. Nothing
+`setsmooth.runs.montecarlo.run` sends its runs here when it is given a ``dask.distributed.Client``. Nothing
 else in the package imports this module, and this module imports ``distributed`` only when it is
 called, so the core works without Dask installed.
 
