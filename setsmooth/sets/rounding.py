@@ -49,6 +49,7 @@ written by hand with the set algebra certified as tightly.
 from __future__ import annotations
 
 import numpy as np
+import scipy.linalg
 import scipy.sparse as sp
 
 from ..solvers.certify import _ETA, gamma  # η = 2⁻¹⁰⁷⁴; γ_k = k·u / (1 − k·u)
@@ -467,8 +468,6 @@ def _parallelotope(P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     of fl(Q·diag(r)). Boxing happens in the frame of the charges' dominant directions, so it does
     not wrap like a box in the coordinate frame (the residual is at the rounding level of P itself).
     """
-    import scipy.linalg
-
     n, q = P.shape
     Q = scipy.linalg.qr(P, pivoting=True, mode="economic")[0]
     R = Q.T @ P
