@@ -468,7 +468,7 @@ def _parallelotope(P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     of fl(Q·diag(r)). Boxing happens in the frame of the charges' dominant directions, so it does
     not wrap like a box in the coordinate frame (the residual is at the rounding level of P itself).
     """
-    n, q = P.shape
+    q = P.shape[1]
     Q = scipy.linalg.qr(P, pivoting=True, mode="economic")[0]
     R = Q.T @ P
     r = rounded_up(np.abs(R).sum(axis=1), q)

@@ -361,7 +361,7 @@ def nominal_free_point(M: sp.csc_matrix, b: np.ndarray, bounded: np.ndarray) -> 
         return None
     AF = M[:, free]
     if AF.shape[0] * AF.shape[1] <= NOMINAL_DENSE_MAX:
-        x = np.linalg.lstsq(AF.toarray(), b, rcond=None)[0]
+        x = scipy.linalg.lstsq(AF.toarray(), b, lapack_driver="gelsy")[0]  # 2x gelsd's speed
     else:
         x = scipy.sparse.linalg.lsqr(AF, b, atol=1e-14, btol=1e-14, iter_lim=4 * AF.shape[1])[0]
     if not np.all(np.isfinite(x)):
