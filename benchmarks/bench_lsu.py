@@ -32,14 +32,14 @@ import _lsu_examples as ex  # noqa: E402
 PARTS = {
     "LSU-CZ": {"algebra": ("classical.py", ("_predict", "_update")),
                "reduction": ("__init__.py", ("apply_methods",)),
-               "vertices": ("vertices.py", ("cz_vertices",)),
-               "hull (Qhull)": ("vertices.py", ("hull_geometry",)),
+               "vertices": ("cz_vertices.py", ("cz_vertices",)),
+               "hull (Qhull)": ("cz_vertices.py", ("hull_geometry",)),
                "Method 2 LP": ("estimates.py", ("closest_to_zonotope_center",))},
     "LSUO": {"algebra": ("algebra.py", ("generalized_intersection", "minkowski_sum", "linear_map")),
-             "vertices": ("vertices.py", ("cz_vertices",)),
+             "vertices": ("cz_vertices.py", ("cz_vertices",)),
              "prediction hull": ("_base.py", ("apply",))},
     "LSUP": {"algebra": ("algebra.py", ("generalized_intersection",)),
-             "vertices": ("vertices.py", ("cz_vertices",)),
+             "vertices": ("cz_vertices.py", ("cz_vertices",)),
              "data update choice": ("parallelotope.py", ("parallelotope_update",)),
              "time update choice": ("parallelotope.py", ("parallelotope_predict",))},
 }

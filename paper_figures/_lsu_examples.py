@@ -121,7 +121,7 @@ def _outside_hulls(result, xs: np.ndarray) -> int:
         elif isinstance(S, ss.Zonotope):
             count += not np.all(np.abs(np.linalg.solve(S.G, x - S.c)) <= 1.0 + 1e-9)
         else:
-            from setsmooth.sets.vertices import cz_vertices
+            from setsmooth.sets.cz_vertices import cz_vertices
 
             V = cz_vertices(S)
             count += V is None or V.shape[0] == 0 or not np.all((V.min(0) - 1e-9 <= x) & (x <= V.max(0) + 1e-9))

@@ -99,7 +99,7 @@ EXPM_RELATIVE_ERROR = 1e-13
 #: the margin is ``MEMBERSHIP_TOL`` times the set's width plus this times the coordinates' magnitude,
 #: the rounding a chain of set operations accumulates (about 450 unit roundoffs).
 MAGNITUDE_TOL = 1e-13
-#: Relative slack with which `sets.vertices.cz_vertices` accepts a basic solution whose basic factors
+#: Relative slack with which `sets.cz_vertices.cz_vertices` accepts a basic solution whose basic factors
 #: exceed their bounds by rounding (the point is then clipped to the bounds).
 VERTEX_FEASIBILITY_TOL = 1e-9
 #: A-posteriori check of every fast-path support value (`solvers.cz_program`): the certified

@@ -304,30 +304,30 @@ class ConvexSet(AlgebraHooks, ExtensionPoints, SetRelations, ABC):
             "Chebyshev centre)")
 
     def vertices_2d(self) -> np.ndarray:
-        """Vertices of a bounded 2-D set in counter-clockwise order (see `setsmooth.sets.polygon`)."""
-        from .polygon import vertices_2d
+        """Vertices of a bounded 2-D set in counter-clockwise order (see `setsmooth.sets.vertices_2d`)."""
+        from .vertices_2d import vertices_2d
 
         return vertices_2d(self)
 
     def area(self) -> float:
         """Area of a bounded 2-D set (shoelace formula on `vertices_2d`)."""
-        from .polygon import polygon_area
+        from .vertices_2d import polygon_area
 
         return polygon_area(self.vertices_2d())
 
     def plot(self, ax=None, dims: Sequence[int] = (0, 1), **kwargs):
         """Draw the projection onto ``dims`` and return the matplotlib artist.
 
-        Two ``dims``: a `matplotlib.patches.Polygon` on a 2-D axes (`polygon.plot_set`). Three
+        Two ``dims``: a `matplotlib.patches.Polygon` on a 2-D axes (`vertices_2d.plot_set`). Three
         ``dims``: a `Poly3DCollection` of the exact polytope (curved sets: refined to the
-        vertex tolerance) on a 3-D axes (`polytope3d.plot_set_3d`; ``ax`` from
+        vertex tolerance) on a 3-D axes (`vertices_3d.plot_set_3d`; ``ax`` from
         ``fig.add_subplot(projection='3d')``). Keyword arguments go to the artist.
         """
         if len(tuple(dims)) == 3:
-            from .polytope3d import plot_set_3d
+            from .vertices_3d import plot_set_3d
 
             return plot_set_3d(self, ax=ax, dims=dims, **kwargs)
-        from .polygon import plot_set
+        from .vertices_2d import plot_set
 
         return plot_set(self, ax=ax, dims=dims, **kwargs)
 

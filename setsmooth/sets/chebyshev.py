@@ -63,7 +63,7 @@ def chebyshev_ball(Z) -> ChebyshevBall:
         return ChebyshevBall(hull.midpoint(), float(widths[0]) / 2, True)
     H = None
     if n == 2:
-        from .polygon import vertices_2d
+        from .vertices_2d import vertices_2d
 
         V = vertices_2d(Z)
         if len(V) < 3:  # a point or a segment: no interior

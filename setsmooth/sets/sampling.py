@@ -3,7 +3,7 @@
 `uniform_sample` (what ``ConvexSet.sample`` calls) picks, for ``method='auto'``:
 
 * **exact** — a set that flattens to a constrained zonotope of dimension ≤ `EXACT_SAMPLING_MAX_DIM`
-  whose vertices can be enumerated (`sets.vertices.cz_vertices`): its hull is cut into simplices and
+  whose vertices can be enumerated (`sets.cz_vertices.cz_vertices`): its hull is cut into simplices and
   each draw picks a simplex with probability ∝ volume, then uniform barycentric weights. Exactly
   uniform, no program per draw (the vertices cost no LP at all).
 * **hit-and-run** — otherwise: a Markov chain whose every move picks a random direction d and a point
@@ -79,7 +79,7 @@ def uniform_sample(S, rng: np.random.Generator, size: int = 1, method: str = "au
         if method == "exact":
             raise ValueError(f"no exact sampler for {type(S).__name__} of dimension {S.dim}: it needs a "
                              f"constrained-zonotope form of dimension ≤ {EXACT_SAMPLING_MAX_DIM} with at "
-                             "most vertices.MAX_VERTEX_CANDIDATES basic solutions")
+                             "most cz_vertices.MAX_VERTEX_CANDIDATES basic solutions")
     return hit_and_run(S, rng, size)
 
 
@@ -92,7 +92,7 @@ def exact_geometry(S):
     ValueError
         When ``S`` is empty or flat (no interior).
     """
-    from .vertices import cz_vertices, hull_geometry
+    from .cz_vertices import cz_vertices, hull_geometry
 
     cz = S._flat_cz
     if cz is None or S.dim > EXACT_SAMPLING_MAX_DIM:

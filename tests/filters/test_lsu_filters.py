@@ -9,7 +9,7 @@ from scipy.spatial import ConvexHull
 import setsmooth as ss
 from setsmooth.filters.lsu import lsu_cz_reduction
 from setsmooth.filters.lsu.cz import _support_system
-from setsmooth.sets.vertices import cz_vertices
+from setsmooth.sets.cz_vertices import cz_vertices
 
 A = np.array([[1.0, -0.5, 0.2], [0.5, 0.1, 0.0], [0.3, 0.0, -0.1]])
 B = np.array([[0.1], [0.6], [0.3]])

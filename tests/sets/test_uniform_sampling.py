@@ -7,7 +7,7 @@ import pytest
 
 import setsmooth as ss
 from setsmooth.sets.sampling import exact_geometry, hit_and_run, uniform_sample
-from setsmooth.sets.vertices import cz_vertices, hull_geometry, vertex_candidate_count
+from setsmooth.sets.cz_vertices import cz_vertices, hull_geometry, vertex_candidate_count
 
 # A thin asymmetric quadrilateral as a CZ: a zonotope cut by one constraint.
 PENTAGON = ss.ConstrainedZonotope([[1.0, 0.5, 0.2], [0.0, 1.0, 0.7]], [0.3, -0.2],

@@ -14,7 +14,7 @@
   need not be unique; the solver's is taken.
 * ``'centroid'``: the mean of the uniform density on the support, i.e. the posterior mean of the
   LSU approximation (the Bayes estimate under squared loss). Exact from the vertex hull in low
-  dimension (`sets.vertices`), else the mean of hit-and-run draws.
+  dimension (`sets.cz_vertices`), else the mean of hit-and-run draws.
 
 `posterior_std` gives the standard deviations of the uniform density on the support (the "STD" we
 plot for Fig. 3): closed form for boxes and parallelotopes, exact from the simplices otherwise.
@@ -30,7 +30,7 @@ from ...sets.box import Box
 from ...sets.constrained_zonotope import ConstrainedZonotope
 from ...sets.empty import EmptySet
 from ...sets.sampling import EXACT_SAMPLING_MAX_DIM, exact_geometry, hit_and_run
-from ...sets.vertices import cz_vertices, hull_geometry
+from ...sets.cz_vertices import cz_vertices, hull_geometry
 from ...sets.zonotope import Zonotope
 
 __all__ = ["POINT_ESTIMATES", "lsu_point_estimate", "closest_to_zonotope_center", "posterior_std"]
@@ -174,7 +174,7 @@ def summarize(support: ConvexSet, methods: tuple[str, ...], std: bool,
               rng: np.random.Generator | None = None) -> tuple[dict[str, np.ndarray], np.ndarray | None]:
     """The point estimates ``methods`` and (if ``std``) the spread of one support, sharing the work.
 
-    A CZ support with an enumerable vertex set (`sets.vertices.cz_vertices`; always, at the paper's
+    A CZ support with an enumerable vertex set (`sets.cz_vertices.cz_vertices`; always, at the paper's
     complexity maxima) gives Method 1 (the exact interval hull from its vertices), the centroid and
     the spread from one vertex enumeration and one hull, without an LP; Method 2 is then one LP.
     Other supports go through `lsu_point_estimate` and `posterior_std`. Returns (None, None) for an

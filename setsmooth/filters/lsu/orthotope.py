@@ -4,7 +4,7 @@
     time update:  𝕏_{t+1|t} = □(A 𝕏_t + B u_t + 𝕎)
 
 where □ is the interval hull: for box ∩ strip (a CZ with n + m generators and m constraints) the exact
-hull of its enumerated vertices widened by their rounding slack (`sets.vertices`, no LP; the certified
+hull of its enumerated vertices widened by their rounding slack (`sets.cz_vertices`, no LP; the certified
 LP hull of `IntervalHull` if the enumeration were too large), for the zonotope of the time update the
 library's `IntervalHull` reduction (closed form, rounded up). Every box contains the exact
 set-membership posterior. The estimate is the box's centre (its centroid and Method 1 alike).
@@ -20,7 +20,7 @@ from ...sets.algebra import generalized_intersection, linear_map, minkowski_sum,
 from ...sets.box import Box
 from ...sets.constrained_zonotope import ConstrainedZonotope
 from ...sets.empty import EmptySet
-from ...sets.vertices import cz_vertices, vertex_bounds
+from ...sets.cz_vertices import cz_vertices, vertex_bounds
 from ...sets.reduction import IntervalHull
 from .estimates import posterior_std
 from .model import LSUModel
@@ -77,7 +77,7 @@ def lsuo_filter(model: LSUModel, ys: Any, us: Any, *, std: bool = True) -> LSURe
 
 def tight_box(Q, hull: IntervalHull):
     """The tightest box around the small CZ Q: from its vertices, widened by their rounding slack
-    (`sets.vertices.vertex_bounds`; no LP), or by the certified LP hull when the enumeration is too
+    (`sets.cz_vertices.vertex_bounds`; no LP), or by the certified LP hull when the enumeration is too
     large. `EmptySet` when Q is empty."""
     V = cz_vertices(Q) if isinstance(Q, ConstrainedZonotope) else None
     if V is None:

@@ -42,7 +42,7 @@ from ...sets.algebra import generalized_intersection
 from ...sets.box import Box
 from ...sets.empty import EmptySet
 from ...sets.reduction._base import abs_sum_upper
-from ...sets.vertices import cz_vertices, vertex_bounds
+from ...sets.cz_vertices import cz_vertices, vertex_bounds
 from ...sets.zonotope import Zonotope
 from .model import LSUModel
 from .result import LSUResult

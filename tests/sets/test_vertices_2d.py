@@ -11,7 +11,7 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 import setsmooth as ss  # noqa: E402
-from setsmooth.sets.polygon import polygon_area, vertices_2d  # noqa: E402
+from setsmooth.sets.vertices_2d import polygon_area, vertices_2d  # noqa: E402
 
 
 def signed_area(v):

@@ -10,7 +10,7 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 from scipy.spatial import ConvexHull  # noqa: E402
 
 import setsmooth as ss  # noqa: E402
-from setsmooth.sets.polytope3d import faces_3d, vertices_3d  # noqa: E402
+from setsmooth.sets.vertices_3d import faces_3d, vertices_3d  # noqa: E402
 from tests.sets.test_oracles import cz_points, zonotope_points  # noqa: E402
 
 

@@ -5,7 +5,7 @@ it queries the outward normal of every facet of the current hull (scipy's Qhull)
 support point whenever it lies beyond the facet. For a polytope every added point is on the boundary
 and the loop ends with the exact hull (when no facet normal finds a point beyond it); for a curved set
 it stops when every facet is within ``tol`` of the boundary or at ``max_vertices``. Flat sets (affine
-dimension below 3) fall back to the 2-D walk of `polygon.vertices_2d` in their plane.
+dimension below 3) fall back to the 2-D walk of `vertices_2d` in their plane.
 """
 
 from __future__ import annotations
@@ -93,7 +93,7 @@ def _flat_vertices(S, points: np.ndarray, origin: np.ndarray, basis: np.ndarray)
     if basis.shape[0] == 1:
         t = (points - origin) @ basis[0]
         return points[[np.argmin(t), np.argmax(t)]]
-    from .polygon import vertices_2d
+    from .vertices_2d import vertices_2d
 
     plane = basis @ (S - origin)  # the set in coordinates of its plane
     return vertices_2d(plane) @ basis + origin
