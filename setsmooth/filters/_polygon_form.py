@@ -7,7 +7,7 @@ Stability paper Algorithm 1 with every set a convex polygon in closed form (no s
 
 where N y ≤ h are the half-planes of D_k(−V) (exact for a box or an H-polytope of any dimension,
 rounded up for a planar polygon). Each `Polygon` contains the exact posterior and exceeds it only by
-rounding (`setsmooth.sets.convex_polygon`); a posterior is `EmptySet` only when certainly empty.
+rounding (`setsmooth.sets.polygon`); a posterior is `EmptySet` only when certainly empty.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from ..sets._polygon_geometry import SQRT2_UP, TINY, U, up
 from ..sets.algebra import linear_map, minkowski_sum, translate
 from ..sets.base import ConvexSet
 from ..sets.box import Box
-from ..sets.convex_polygon import Polygon, as_polygon, half_planes
+from ..sets.polygon import Polygon, as_polygon, half_planes
 from ..sets.empty import EmptySet
 from ..sets.hpolytope import HPolytope
 from ..sets.vpolytope import VPolytope

@@ -6,7 +6,7 @@ from .containment import Containment, is_subset
 from .difference import pontryagin_difference
 from .box import Box
 from .constrained_zonotope import ConstrainedZonotope
-from .convex_polygon import Polygon
+from .polygon import Polygon
 from .ellipsoid import Ellipsoid
 from .empty import EmptySet
 from .hpolytope import HPolytope

@@ -431,7 +431,7 @@ class ConvexSet(AlgebraHooks, ExtensionPoints, SetRelations, ABC):
     #: Caches derived from the representation (cached properties): rebuilt on demand after
     #: unpickling rather than shipped. Solver instances are never on a set at all (they live in the
     #: per-thread cache of `solvers.instances`), so no query can make a set unpicklable.
-    #: ``_polygon_form`` is a 2-D polytope's `Polygon` (`convex_polygon`), kept by the polygon algebra.
+    #: ``_polygon_form`` is a 2-D polytope's `Polygon` (`polygon`), kept by the polygon algebra.
     _DERIVED = ("_flat_cz", "_program", "_polygon_form")
 
     def __getstate__(self) -> dict:

@@ -26,7 +26,7 @@ from ..filters.classical import classical_filter
 from ..results import SetEstimates
 from ..sets.algebra import generalized_intersection, minkowski_sum, translate
 from ..sets.base import ConvexSet
-from ..sets.convex_polygon import Polygon
+from ..sets.polygon import Polygon
 from ..trajectories import trajectory_set
 
 _METHODS = ("auto", "recursion", "trajectory")

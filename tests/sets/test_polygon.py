@@ -19,7 +19,7 @@ from hypothesis import given, settings, strategies as st
 import setsmooth as ss
 from setsmooth.sets import _polygon_geometry as geo
 from setsmooth.sets.algebra import linear_map
-from setsmooth.sets.convex_polygon import Polygon
+from setsmooth.sets.polygon import Polygon
 
 from . import polygon_reference as ref
 
