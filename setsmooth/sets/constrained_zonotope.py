@@ -108,8 +108,9 @@ class ConstrainedZonotope(ConvexSet):
         self.pad_free = None if pad_free is None else mx.readonly(pad_free)
         self._slack = None if slack is None else mx.readonly(slack)
         self._slack_free = None if slack_free is None else mx.readonly(slack_free)
-        #: A `setsmooth.data_certificates.DataReference` (the same exact set, certified against the
-        #: model data) on the sets of the recursion's estimators; None otherwise.
+        #: A `setsmooth.trajectories.recursion_certificates.DataReference` (the same exact set,
+        #: certified against the model data) on the sets of the recursion's estimators; None
+        #: otherwise.
         self._reference = None
 
     def _with_reference(self, reference) -> "ConstrainedZonotope":

@@ -307,7 +307,7 @@ class TrajectoryFactors(FactorConstraints):
 
     Every row couples neighbouring times only, so the states' Gram matrix A_FᵀA_F is banded and the
     bound on the free factors that certified support values need costs O(length) instead of the
-    dense eigenvalue problem (`trajectory_certificate`); the dense bound remains the fallback.
+    dense eigenvalue problem (`free_factor_bound`); the dense bound remains the fallback.
     """
 
     def free_bound(self) -> float | None:
