@@ -1,7 +1,8 @@
-"""Write ``REPORT.md``: every published value or claim of the reproduced figures beside ours, by paper.
+"""Write ``REPORT.md``: a verdict table, then every published value or claim of the figures beside ours, by paper.
 
 Reads the ``<name>.json`` files the figure scripts wrote to the output directory (their ``paper``,
-``rows``, ``settings``, ``notes`` and ``wall_time_s``; the protocol is in ``_outputs.py``), so it can
+``rows``, ``checks``, ``settings``, ``notes`` and ``wall_time_s``; the protocol is in ``_outputs.py``;
+the verdicts and their thresholds in ``_verdicts.py``), so it can
 be rerun on its own: ``python paper_figures/report.py [--out DIR]``. Each paper's title and
 conventions come from its ``_<paper>_examples.py`` (``PAPER_TITLE``, ``REPORT_PREAMBLE``).
 """
@@ -15,6 +16,7 @@ import platform
 from datetime import datetime, timezone
 from pathlib import Path
 
+import _verdicts
 from _outputs import DEFAULT_OUT
 
 #: Heading of the figures whose JSON names no paper (written before the protocol had the key).
@@ -71,7 +73,7 @@ def main(out: Path | None = None) -> Path:
              ""]
     if by_paper:
         lines += ["Papers: " + ", ".join(f"{paper} ({len(figs)} figures)" for paper, figs in by_paper.items()),
-                  ""]
+                  "", "## Verdicts", "", _verdicts.legend(), "", *_verdicts.table(by_paper), ""]
     else:
         lines.append("No figure results found in this directory.\n")
     for paper, figures in by_paper.items():
