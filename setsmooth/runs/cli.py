@@ -14,6 +14,11 @@ sets every figure to N runs, except that Fig. 4 uses min(N, 100) runs per pair, 
 ``setsmooth[dask]`` extra; every worker needs ``setsmooth`` installed). Results are bit-identical to a
 local run: run i always uses the i-th child of the root seed.
 
+BLAS threads: ``--blas-threads N`` (default 1) limits every BLAS library of this process and of the
+worker processes it starts, before the first script runs: the Monte Carlo already keeps one process per
+core, and BLAS threads on top of it only contend. The timed scripts (stability Table 1, the LSU timings)
+set their own limit before their first solve and record the thread count the libraries report back.
+
 Formats: every figure is written as PNG (the report embeds it); ``--format pdf,svg`` writes vector
 copies beside it for a paper (PDF, SVG or EPS; text kept as text).
 """
@@ -21,6 +26,7 @@ copies beside it for a paper (PDF, SVG or EPS; text kept as text).
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import os
 import sys
@@ -104,7 +110,7 @@ def parse_formats(text: str) -> list[str]:
 
 def run_figures(names: list[str], figures_dir: Path, out: Path, runs: int | None, seed: int,
                 workers: int | None, progress: bool, executor=None,
-                formats: list[str] | None = None) -> tuple[dict, Path]:
+                formats: list[str] | None = None, blas_threads: int | None = None) -> tuple[dict, Path]:
     """Run the named figure scripts, then write the report; return (wall times or errors, report path).
 
     ``executor`` (a `concurrent.futures.Executor` or a ``dask.distributed.Client``) is passed to every
@@ -113,16 +119,47 @@ def run_figures(names: list[str], figures_dir: Path, out: Path, runs: int | None
     the trials by module name, and a remote worker has only the installed ``setsmooth``.
     ``formats``: the image formats of every figure (PNG always; e.g. ``['png', 'pdf']``), passed
     to the scripts' `_outputs.write_outputs` through ``$SETSMOOTH_FIGURE_FORMATS`` for this call.
+    ``blas_threads``: limit the BLAS libraries to this many threads for this call (`blas_limit`);
+    None leaves them as they are.
     """
-    previous = os.environ.get(FORMATS_ENV)
-    os.environ[FORMATS_ENV] = ",".join(formats or ["png"])
-    try:
+    with _environment({FORMATS_ENV: ",".join(formats or ["png"])}), blas_limit(blas_threads):
         return _run_figures(names, figures_dir, out, runs, seed, workers, progress, executor)
+
+
+#: The variables BLAS libraries read when they load (in this process later, or in a worker process).
+BLAS_ENV = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+
+
+@contextlib.contextmanager
+def blas_limit(threads: int | None):
+    """Limit the loaded BLAS libraries (threadpoolctl) and those loaded later (environment) to ``threads``.
+
+    An environment variable alone acts only where a library has not loaded yet: after NumPy's import
+    it changes nothing in this process, which is how Table 1 was once timed on two threads.
+    """
+    if threads is None:
+        yield
+        return
+    from threadpoolctl import threadpool_limits
+
+    with _environment(dict.fromkeys(BLAS_ENV, str(threads))), \
+            threadpool_limits(limits=threads, user_api="blas"):
+        yield
+
+
+@contextlib.contextmanager
+def _environment(values: dict[str, str]):
+    """Set environment variables for the duration of the block, then restore them."""
+    saved = {name: os.environ.get(name) for name in values}
+    os.environ.update(values)
+    try:
+        yield
     finally:
-        if previous is None:
-            os.environ.pop(FORMATS_ENV, None)
-        else:
-            os.environ[FORMATS_ENV] = previous
+        for name, value in saved.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value
 
 
 def _run_figures(names, figures_dir, out, runs, seed, workers, progress, executor):
@@ -178,6 +215,8 @@ def main(argv: list[str] | None = None) -> int:
     figures.add_argument("--scheduler", default=None, metavar="ADDRESS",
                          help="run the Monte Carlo on the Dask scheduler at ADDRESS (e.g. "
                               "tcp://10.0.0.5:8786; needs the setsmooth[dask] extra)")
+    figures.add_argument("--blas-threads", type=int, default=1, metavar="N",
+                         help="BLAS threads per process (default 1; the Monte Carlo runs one process per core)")
     figures.add_argument("--no-progress", action="store_true", help="hide the progress bars")
     figures.add_argument("--list", action="store_true", help="list the figure scripts and exit")
     figures.add_argument("--format", default="", metavar="FMT[,FMT]",
@@ -195,6 +234,8 @@ def main(argv: list[str] | None = None) -> int:
         parser.error("--workers must be at least 1")
     if args.seed < 0:
         parser.error("--seed must be non-negative")
+    if args.blas_threads < 1:
+        parser.error("--blas-threads must be at least 1")
     if args.scheduler is not None and args.workers is not None:
         parser.error("--workers sets the local process pool; the cluster behind --scheduler has its own "
                      "workers: give one of them")
@@ -221,7 +262,8 @@ def main(argv: list[str] | None = None) -> int:
             return 2
     try:
         outcome, report = run_figures(names, figures_dir, out, args.runs, args.seed, args.workers,
-                                      not args.no_progress, executor=client, formats=formats)
+                                      not args.no_progress, executor=client, formats=formats,
+                                      blas_threads=args.blas_threads)
     finally:
         if client is not None:
             client.close()
