@@ -10,7 +10,8 @@ A figure script ``<paper>_<figure>.py`` in this directory defines
 
 The JSON written by `finish` holds the plotted numbers plus the keys the report reads: ``paper``,
 ``figure``, ``rows`` (made by `row`: a published value or claim beside ours), ``settings``,
-``published``, ``notes``, ``wall_time_s`` and ``cpu_time_s``. Every figure is written as ``<NAME>.png``
+``published``, ``notes``, ``wall_time_s`` and ``cpu_time_s``, and optionally ``checks`` (made by
+``_verdicts.value`` / ``_verdicts.claim``: the numbers behind the report's verdict table). Every figure is written as ``<NAME>.png``
 (the report embeds it) and also in the vector formats named by ``$SETSMOOTH_FIGURE_FORMATS``
 (comma-separated, from ``setsmooth figures --format pdf,svg`` or a script's own ``--format``): PDF and
 SVG for papers. ``setsmooth figures`` (`setsmooth.runs.cli`)
@@ -116,8 +117,12 @@ def jsonable(obj: Any) -> Any:
     return obj
 
 
-def cli(main: Callable[..., dict], default_runs: int, description: str) -> None:
-    """``--runs --seed --out --workers`` for a figure script run on its own; prints its report rows."""
+def cli(main: Callable[..., dict], default_runs: int, description: str, **options: dict) -> None:
+    """``--runs --seed --out --workers`` for a figure script run on its own; prints its report rows.
+
+    ``options``: the script's own keyword arguments of ``main``, each as the keyword arguments of
+    `argparse.ArgumentParser.add_argument` (``offset={"choices": (...), "default": ...}`` makes ``--offset``).
+    """
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--runs", type=int, default=default_runs,
                         help=f"Monte Carlo runs (default {default_runs})")
@@ -125,11 +130,14 @@ def cli(main: Callable[..., dict], default_runs: int, description: str) -> None:
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="output directory")
     parser.add_argument("--workers", type=int, default=None, help="processes (default: 2)")
     parser.add_argument("--format", default="", help="extra formats besides PNG, e.g. pdf,svg")
+    for name, spec in options.items():
+        parser.add_argument(f"--{name.replace('_', '-')}", dest=name, **spec)
     args = parser.parse_args()
     try:
         os.environ[FORMATS_ENV] = ",".join(parse_formats(args.format))
     except ValueError as exc:
         parser.error(str(exc))
-    result = main(runs=args.runs, seed=args.seed, out=args.out, workers=args.workers)
+    result = main(runs=args.runs, seed=args.seed, out=args.out, workers=args.workers,
+                  **{name: getattr(args, name) for name in options})
     for r in result["rows"]:
         print(f"{r['quantity']}: paper {r['paper']} | ours {r['ours']}")

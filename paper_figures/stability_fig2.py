@@ -20,6 +20,7 @@ import setsmooth as ss
 from setsmooth import analysis, montecarlo
 
 import _stability_examples as ex
+import _verdicts as v
 from _outputs import Stopwatch, cli, finish, row
 
 NAME = "stability_fig2"
@@ -53,7 +54,7 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
 
     extra = montecarlo.run(partial(ex.fresh_run, "25", horizon), runs - 1, seed, executor=executor, progress=progress,
                            workers=workers) if runs > 1 else []
-    rows = _rows(example, xs, sets, polys, curves, true_diam, bound, oit_bound)
+    rows, checks = _rows(example, xs, sets, polys, curves, true_diam, bound, oit_bound)
     extra_rows, extra_stats = ex.fresh_run_rows(extra, "Fig. 2")
     rows += extra_rows
     fig = _plot(polys, curves, true_diam, bound, xs)
@@ -61,6 +62,7 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
     data = {
         "figure": "Stability paper Fig. 2",
         "rows": rows,
+        "checks": checks,
         "settings": {"runs": runs, "seed": seed, "example": "(25)", "authors_seed": example.seed,
                      "T": T, "true_x0": ex.TRUE_X0, "designers": ex.DESIGNERS, "panel_k": PANEL_K,
                      "oit_delta": OIT_DELTA, "carol": "Algorithm 2, k_* = 1, θ̄ = ∞ (P = I)",
@@ -87,7 +89,7 @@ def _contains(outer: np.ndarray, inner: np.ndarray) -> bool:
     return all(analysis.point_polygon_distance(v, outer) <= 1e-7 for v in inner)
 
 
-def _rows(example, xs, sets, polys, curves, true_diam, bound, oit_bound) -> list[dict]:
+def _rows(example, xs, sets, polys, curves, true_diam, bound, oit_bound) -> tuple[list[dict], list[dict]]:
     A, C = example.A, example.C
     verdicts = {name: analysis.check_stability_criterion(A, C, ex.box(ex.DESIGNERS[name]), ex.box(ex.TRUE_X0))
                 for name in ex.DESIGNERS}
@@ -108,6 +110,24 @@ def _rows(example, xs, sets, polys, curves, true_diam, bound, oit_bound) -> list
     max_diam = {name: float(np.max(curves[name]["diameter"][later])) for name in ("Alice", "Bob", "Carol")}
     ratio = [curves[n]["gap_surrogate"][k] / curves[n]["gap"][k] for n in ("Alice", "Bob", "Carol")
              for k in range(T + 1) if curves[n]["gap"][k] > ex.GAP_TOL]
+    one_run = "none: the authors' own trajectory (one run, replayed bit for bit)"
+    david_inside = _contains(p1["true"], p1["David"])
+    checks = [
+        v.claim("David's estimate empty at k = 2", david_empty == 2, f"ours: first empty at k = {david_empty}",
+                one_run),
+        v.claim("gaps of Alice, Bob, Carol are 0 from k = 6 on",
+                all(k is not None and k <= 6 for k in vanish.values()),
+                "exact gap ≤ 1e-6 from k = " + ", ".join(f"{n} {k}" for n, k in vanish.items()), one_run),
+        v.claim("k = 1: Carol ⊃ Bob ⊃ Alice ⊃ true posterior ⊃ David", chain and david_inside,
+                f"nested chain {'yes' if chain else 'no'}, David inside {'yes' if david_inside else 'no'}", one_run),
+        v.claim("diameters for k ≥ δ below the bound (16)",
+                max(max_diam.values()) <= bound.value and np.max(true_diam[later]) <= bound.value,
+                f"largest {max(max(max_diam.values()), np.max(true_diam[later])):.3f} vs bound {bound.value:.3f}",
+                one_run),
+        v.claim("Theorem 2: Alice, Bob stable, David not",
+                verdicts["Alice"].holds and verdicts["Bob"].holds and not verdicts["David"].holds,
+                ", ".join(f"{n} {'yes' if r.holds else 'no'}" for n, r in verdicts.items()), "none (a criterion)"),
+    ]
     return [
         row("David's estimate becomes empty at k", "2", str(david_empty)),
         row("Alice, Bob, Carol: estimation gap 0 from k (exact Hausdorff ≤ 1e-6)", "0 for k ≥ 6",
@@ -135,7 +155,7 @@ def _rows(example, xs, sets, polys, curves, true_diam, bound, oit_bound) -> list
             ", ".join(f"{n} {v}" for n, v in inside.items())),
         row("vertex surrogate / exact gap where the gap > 0", "(surrogate is an upper bound)",
             f"min {min(ratio):.3f}, max {max(ratio):.3f}" if ratio else "no positive gap"),
-    ]
+    ], checks
 
 
 def _plot(polys, curves, true_diam, bound, xs):

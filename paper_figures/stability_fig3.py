@@ -18,6 +18,7 @@ import numpy as np
 from setsmooth import analysis, montecarlo
 
 import _stability_examples as ex
+import _verdicts as v
 from _outputs import Stopwatch, cli, finish, row
 
 NAME = "stability_fig3"
@@ -46,13 +47,14 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
 
     extra = montecarlo.run(partial(ex.fresh_run, "26", horizon), runs - 1, seed, executor=executor, progress=progress,
                            workers=workers) if runs > 1 else []
-    rows = _rows(example, xs, sets, curves, true_diam, dec, upsilon)
+    rows, checks = _rows(example, xs, sets, curves, true_diam, dec, upsilon)
     extra_rows, extra_stats = ex.fresh_run_rows(extra, "Fig. 3")
     rows += extra_rows
     fig = _plot(polys, curves, true_diam, xs)
     data = {
         "figure": "Stability paper Fig. 3",
         "rows": rows,
+        "checks": checks,
         "settings": {"runs": runs, "seed": seed, "example": "(26)", "authors_seed": example.seed,
                      "T": horizon, "true_x0": ex.TRUE_X0, "designers": ex.DESIGNERS, "panel_k": PANEL_K,
                      "carol": "Algorithm 2, k_* = 1, θ̄ = ∞, P = [[0, 1], [-1, 0]]",
@@ -81,7 +83,7 @@ def _rate(gap: np.ndarray) -> float:
     return float(np.exp(np.mean(np.log(g[1:][ok] / g[:-1][ok])))) if ok.any() else float("nan")
 
 
-def _rows(example, xs, sets, curves, true_diam, dec, upsilon) -> list[dict]:
+def _rows(example, xs, sets, curves, true_diam, dec, upsilon) -> tuple[list[dict], list[dict]]:
     A, C = example.A, example.C
     verdicts = {name: analysis.check_egregium(A, C, ex.box(ex.DESIGNERS[name]), ex.box(ex.TRUE_X0), decomposition=dec)
                 for name in ex.DESIGNERS}
@@ -94,6 +96,18 @@ def _rows(example, xs, sets, curves, true_diam, dec, upsilon) -> list[dict]:
     inside = {n: ex.inside_from(sets[n], xs) for n in ("true", "Alice", "Bob", "Carol")}
     ratio = [curves[n]["gap_surrogate"][k] / curves[n]["gap"][k] for n in live
              for k in range(T + 1) if curves[n]["gap"][k] > ex.GAP_TOL]
+    one_run = "none: the authors' own trajectory (one run, replayed bit for bit)"
+    david_empty = ex.first_empty(curves["David"]["empty"])
+    checks = [
+        v.claim("David's estimate empty at k = 2", david_empty == 2, f"ours: first empty at k = {david_empty}",
+                one_run),
+        v.claim("gaps of Alice, Bob, Carol converge to 0 exponentially",
+                all(0 < r < 1 for r in rates.values()),
+                "ratio per step " + ", ".join(f"{n} {r:.3f}" for n, r in rates.items()), one_run),
+        v.claim("Corollary 1: Alice, Bob stable, David not",
+                verdicts["Alice"].holds and verdicts["Bob"].holds and not verdicts["David"].holds,
+                ", ".join(f"{n} {'yes' if r.holds else 'no'}" for n, r in verdicts.items()), "none (a criterion)"),
+    ]
     return [
         row("David's estimate becomes empty at k (diameter 0 from then on)", "2",
             str(ex.first_empty(curves["David"]["empty"]))),
@@ -105,14 +119,15 @@ def _rows(example, xs, sets, curves, true_diam, dec, upsilon) -> list[dict]:
             "converge (plot)", f"{diam_diff:.2e}"),
         row("Corollary 1 holds (Alice, Bob, Carol's box, David)", "Alice, Bob yes (detectable, (i)); David no",
             ", ".join(f"{n} {'yes' if v.holds else 'no'}" for n, v in verdicts.items())),
-        row("Υ∞ of Algorithm 3 for Ã_ō = 0.5 (infimum 2, not attained)", "2.002 (authors' γ grid)",
-            f"{upsilon.value:.6f} at γ = {upsilon.gamma:.6f}"),
+        row("Υ∞ of Algorithm 3 for Ã_ō = 0.5 (infimum 2, not attained)", "not printed",
+            f"{upsilon.value:.6f} at γ = {upsilon.gamma:.6f} (the authors' code, not the paper, gives 2.002 "
+            "from its γ grid)"),
         row("true state inside the estimate for every k from (true posterior, Alice, Bob, Carol)",
             "0 for the true posterior, Alice, Bob (their boxes contain ⟦x_0⟧); Carol: no claim",
             ", ".join(f"{n} {v}" for n, v in inside.items())),
         row("vertex surrogate / exact gap where the gap > 0", "(surrogate is an upper bound)",
             f"min {min(ratio):.3f}, max {max(ratio):.3f}" if ratio else "no positive gap"),
-    ]
+    ], checks
 
 
 def _plot(polys, curves, true_diam, xs):
