@@ -89,7 +89,21 @@ def shrinkage_rows(x: np.ndarray, f_lo: np.ndarray, f_hi: np.ndarray, s_lo: np.n
         row("true state outside the range (filtered, smoothed), of runs×(T+1)", "0 (guaranteed)",
             f"{outside_f}, {outside_s} of {per_run_ok.size}"),
     ]
-    stats = {"mean_diameter_filtered": mean_f, "mean_diameter_smoothed": mean_s,
+    import _verdicts
+
+    runs = filtered_diam.shape[0]
+    gap = filtered_diam - smoothed_diam
+    gap_se = gap.std(axis=0, ddof=1) / np.sqrt(runs) if runs > 1 else np.full(gap.shape[1], np.nan)
+    error = f"{runs} runs; s.e. of the mean diameter gap up to {np.nanmax(gap_se[:-1]):.2g}" if runs > 1 \
+        else "one run"
+    checks = [
+        _verdicts.claim("smoothed ranges smaller than filtered ranges at every k < T", strictly_smaller,
+                        f"mean diameter ratio smoothed/filtered {ratio.min():.3f}–{ratio[:-1].max():.3f} "
+                        f"for k < T; smoothed ⊆ filtered in {int(per_run_ok.sum())}/{per_run_ok.size}", error),
+        _verdicts.claim("true state inside the filtered and smoothed ranges", outside_f == outside_s == 0,
+                        f"{outside_f} and {outside_s} outside of {per_run_ok.size}", "none (a guarantee)"),
+    ]
+    stats = {"checks": checks, "mean_diameter_filtered": mean_f, "mean_diameter_smoothed": mean_s,
              "outside_filtered": outside_f, "outside_smoothed": outside_s,
              "smoothed_le_filtered": [int(per_run_ok.sum()), int(per_run_ok.size)]}
     return rows, stats

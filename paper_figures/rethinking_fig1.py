@@ -17,6 +17,7 @@ import numpy as np
 import setsmooth as ss
 
 import _rethinking_examples as ex
+import _verdicts as v
 from _outputs import Stopwatch, cli, finish, row
 
 NAME = "rethinking_fig1"
@@ -65,9 +66,15 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
         row("posterior by Bayes' rule (10) on a 41-point grid of ⟦x⟧", "[1, 2]",
             f"[{by_rule[0]:g}, {by_rule[1]:g}]"),
     ]
+    exact = "none (exact set algebra)"
+    checks = [v.value("⟦y⟧ by the law of total range (9)", marginal_y, [1.0, 5.0], rel_tol=1e-9, error=exact),
+              v.value("posterior ⟦x | y = 2⟧", posterior, [1.0, 2.0], rel_tol=1e-9, error=exact),
+              v.value("⟦y | x = 1.5⟧ and ⟦y | x = 2.5⟧", [*likelihoods[1.5], *likelihoods[2.5]],
+                      [1.5, 3.5, 2.5, 4.5], rel_tol=1e-9, error=exact)]
     data = {
         "figure": "Rethinking paper Fig. 1",
         "rows": rows,
+        "checks": checks,
         "settings": {"runs": runs, "seed": seed, "prior": ex.FIG1_PRIOR, "likelihood": "[x, x + 2]",
                      "y": ex.FIG1_Y, "method": "zonotope joint range, cuts and projections (set algebra)"},
         "published": {"runs": "-"},

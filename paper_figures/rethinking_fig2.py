@@ -25,6 +25,7 @@ from setsmooth import montecarlo
 from setsmooth.papers.rethinking_examples import optimal_ranges_27, rethinking_example_27
 
 import _rethinking_examples as ex
+import _verdicts as v
 from _outputs import Stopwatch, cli, finish, row
 
 NAME = "rethinking_fig2"
@@ -104,9 +105,23 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
         row("runs where Algorithm 2's range became empty (left out of the averages)", "not stated",
             f"{int(lost.sum())} of {runs}"),
     ]
+    steady_se = float(per_run.std(ddof=1) / np.sqrt(per_run.size)) if per_run.size > 1 else None
+    checks = [
+        v.value(f"averaged interval-length ratio for k ≥ {ex.FIG2_STEADY_FROM}", float(per_run.mean()), 0.84,
+                steady_se, rel_tol=0.02, shape="Algorithm 2's range is markedly shorter than Algorithm 1's",
+                shape_holds=bool(per_run.mean() < 0.95),
+                error=f"s.e. {100 * (steady_se or float('nan')):.2f} % over {per_run.size} runs, N = {n_samples} "
+                      f"samples per step (paper: {ex.PAPER_RUNS_FIG2} × {ex.PAPER_RUNS_FIG2})"),
+        v.claim("ratio 1 at k = 0 and decreasing up to k = 5",
+                bool(abs(mean[0] - 1) < 1e-9 and np.all(np.diff(mean[:ex.FIG2_STEADY_FROM + 1]) < 0)),
+                decreasing, f"s.e. at k = 5: {100 * se[ex.FIG2_STEADY_FROM]:.2f} %"),
+        v.claim("true state inside the classical range (Theorem 3)", outside_classical == 0,
+                f"{outside_classical} of {x.size} outside", "none (a guarantee)"),
+    ]
     data = {
         "figure": "Rethinking paper Fig. 2",
         "rows": rows,
+        "checks": checks,
         "settings": {"runs": runs, "seed": seed, "T": ex.FIG2_T, "n_samples": n_samples,
                      "chunk": chunk, "v_given_w": "[1, 2 - w_(k-1)] (our reading, see the preamble)",
                      "optimal": "sampled_optimal_filter (Algorithm 2)",
