@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 import _lsu_examples as ex
+import _verdicts
 from _outputs import Stopwatch, cli, finish, row
 
 NAME = "lsu_fig3"
@@ -41,7 +42,14 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
     ]
     fig = ex.curve_figure(exp, "posterior_std", None, "posterior STD·10³",
                           f"Fig. 3: STD of the uniform approximations ({exp['settings']['runs']} runs)")
-    data = {"figure": "LSU paper Fig. 3", "rows": rows, "settings": ex.common_settings(exp),
+    smaller = bool(mean[top, cz] + 2 * se[top, cz] < min(mean[top, lsuo] - 2 * se[top, lsuo],
+                                                         mean[top, lsup] - 2 * se[top, lsup]))
+    checks = [_verdicts.claim(
+        f"at the highest noise (K = {K[top]:g}) the LSU-CZ STD is below LSUO's and LSUP's (by 2 s.e.)", smaller,
+        f"LSU-CZ {mean[top, cz]:.3g} ± {se[top, cz]:.2g}, LSUO {mean[top, lsuo]:.3g}, "
+        f"LSUP {mean[top, lsup]:.3g} (·10³)",
+        f"s.e. over {exp['settings']['runs']} runs")]
+    data = {"figure": "LSU paper Fig. 3", "rows": rows, "checks": checks, "settings": ex.common_settings(exp),
             "published": {"runs": ex.PAPER_RUNS, "values": "plot only"},
             "K": K, "estimators": ex.ESTIMATORS, "mean": mean, "se": se, "error_std_mean": err,
             "error_std_se": err_se}
