@@ -4,6 +4,8 @@ Every check names the argument as the user passed it (``A(2)`` for a callable ev
 ``A[2]`` for an entry of a sequence, ``u[3]``). Complex input is a `TypeError` everywhere: NumPy's
 ``asarray(x, dtype=float)`` would keep the real part of a complex array with only a warning, so an
 Hermitian matrix would silently become a different, real one. The dtype is checked before any cast.
+Booleans are not numbers here either (a mask passed where bounds or measurements were meant), and
+nothing is reshaped but a scalar: a vector is 1-D, a matrix 2-D, as the message of each check says.
 """
 
 from __future__ import annotations
@@ -13,8 +15,8 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-#: dtype kinds that are real numbers: bool, signed and unsigned integers, floats.
-_REAL_KINDS = "biuf"
+#: dtype kinds that are real numbers: signed and unsigned integers, floats.
+_REAL_KINDS = "iuf"
 
 
 def real_array(value: Any, name: str, what: str = "array-like of numbers") -> np.ndarray:
@@ -34,6 +36,9 @@ def real_array(value: Any, name: str, what: str = "array-like of numbers") -> np
         raise TypeError(f"{name} must be {what}, got {type(value).__name__} that is not a "
                         "rectangular array") from exc
     kind = arr.dtype.kind
+    if kind == "b" or (kind == "O" and any(isinstance(x, (bool, np.bool_)) for x in arr.flat)):
+        raise TypeError(f"{name} must be {what}, got booleans (True/False are not numbers here; "
+                        "convert with .astype(float) if 0 and 1 are meant)")
     if kind == "c" or (kind == "O" and any(isinstance(x, (complex, np.complexfloating)) for x in arr.flat)):
         raise TypeError(f"{name} must be real, got complex values (their imaginary part would be dropped)")
     if kind in _REAL_KINDS:
@@ -60,14 +65,17 @@ def real_number(value: Any, name: str) -> float:
 
 
 def as_vector(value: Any, name: str, dim: int | None = None, allow_inf: bool = False) -> np.ndarray:
-    """Return ``value`` as a 1-D float array, or raise naming ``name`` and the expected shape."""
+    """Return ``value`` as a 1-D float array, or raise naming ``name`` and the expected shape.
+
+    A scalar is a vector of length 1; a row or column matrix is refused, not flattened (``[[0, 0]]``
+    for a vector of ℝ² is more often a slip than a choice, and a slip elsewhere would go unseen).
+    """
     arr = real_array(value, name, "array-like of numbers")
     if arr.ndim == 0:
         arr = arr.reshape(1)
-    if arr.ndim == 2 and 1 in arr.shape:
-        arr = arr.reshape(-1)
     if arr.ndim != 1:
-        raise ValueError(f"{name} must be a vector, got an array of shape {arr.shape}")
+        raise ValueError(f"{name} must be a vector of shape ({'n' if dim is None else dim},), got an "
+                         f"array of shape {arr.shape}")
     if dim is not None and arr.shape[0] != dim:
         raise ValueError(f"{name} must have length {dim}, got length {arr.shape[0]}")
     if np.isnan(arr).any():
@@ -78,8 +86,12 @@ def as_vector(value: Any, name: str, dim: int | None = None, allow_inf: bool = F
 
 
 def as_matrix(value: Any, name: str, rows: int | None = None, cols: int | None = None,
-              allow_sparse: bool = False) -> np.ndarray | sp.csc_matrix:
-    """Return ``value`` as a finite 2-D float array (or CSC matrix when ``allow_sparse``)."""
+              allow_sparse: bool = False, layout: str | None = None) -> np.ndarray | sp.csc_matrix:
+    """Return ``value`` as a finite 2-D float array (or CSC matrix when ``allow_sparse``).
+
+    ``layout`` (e.g. ``"(n, ng), one generator per column"``): the input must be 2-D already, and the
+    message says what its axes are; without it a scalar or a vector is read as below.
+    """
     if sp.issparse(value):
         if value.dtype.kind not in _REAL_KINDS:
             raise TypeError(f"{name} must be real, got a sparse matrix of dtype {value.dtype}")
@@ -92,6 +104,10 @@ def as_matrix(value: Any, name: str, rows: int | None = None, cols: int | None =
                 raise ValueError(f"{name} contains NaN or inf; expected finite entries")
             return mat
     arr = real_array(value, name, "a 2-D array of numbers")
+    if layout is not None and arr.ndim != 2:
+        why = " (a vector does not say which axis it is)" if arr.ndim < 2 else ""
+        raise ValueError(f"{name} must be a 2-D matrix of shape {layout}; got an array of shape "
+                         f"{arr.shape}{why}")
     if arr.ndim == 0:
         arr = arr.reshape(1, 1)
     elif arr.ndim == 1:
@@ -133,6 +149,43 @@ def check_rng(rng: Any) -> np.random.Generator:
     return rng
 
 
+def as_generator(rng: Any, name: str = "rng") -> np.random.Generator:
+    """A `numpy.random.Generator` as given, or ``numpy.random.default_rng(seed)`` for an int seed ≥ 0."""
+    if isinstance(rng, np.random.Generator):
+        return rng
+    if isinstance(rng, (int, np.integer)) and not isinstance(rng, (bool, np.bool_)):
+        if rng < 0:
+            raise ValueError(f"{name} must be a non-negative int seed or a numpy.random.Generator, got {rng}")
+        return np.random.default_rng(int(rng))
+    raise TypeError(f"{name} must be an int seed or a numpy.random.Generator, got {type(rng).__name__}")
+
+
+def check_count(value: Any, name: str = "size") -> int:
+    """A number of draws: an integer ≥ 0."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be a non-negative integer (a number of points), got {value!r}")
+    if value < 0:
+        raise ValueError(f"{name} must be a non-negative integer (a number of points), got {value}")
+    return int(value)
+
+
+def check_system(system: Any, name: str = "system") -> Any:
+    """Return ``system`` if it is a setsmooth system; a python-control model is led to `from_statespace`.
+
+    Checked by module name, so that the core never imports python-control.
+    """
+    cls = type(system)
+    if cls.__module__.split(".")[0] == "control":
+        convert = "" if cls.__name__ == "StateSpace" else "control.ss(...) of it, then "
+        raise TypeError(f"{name} is a control.{cls.__name__}, which has no noise ranges: use "
+                        f"{convert}setsmooth.LinearSystem.from_statespace(plant, W, V, ...) to build a "
+                        "LinearSystem (W, V the ranges of the noises; dt= samples a continuous plant)")
+    if not hasattr(system, "n") or not hasattr(system, "W"):
+        raise TypeError(f"{name} must be a setsmooth system (LinearSystem, NonlinearSystem), got "
+                        f"{cls.__name__}")
+    return system
+
+
 def check_dim(value: Any, name: str) -> int:
     """Return a validated positive integer dimension."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
@@ -143,7 +196,7 @@ def check_dim(value: Any, name: str) -> int:
 
 
 def as_measurements(ys: Any, m: int) -> np.ndarray:
-    """Measurements y_0..y_T as a finite (T+1, m) array; a 1-D array is accepted when m = 1."""
+    """Measurements y_0..y_T as a finite (T+1, m) array (time first); a 1-D array is accepted when m = 1."""
     arr = real_array(ys, "ys", "an array of measurements")
     if arr.ndim == 1 and m == 1:
         arr = arr.reshape(-1, 1)

@@ -7,7 +7,7 @@ from typing import Any
 import cvxpy as cp
 import numpy as np
 
-from .._validation import as_vector, check_rng
+from .._validation import as_vector, check_count, check_rng
 from . import _matrices as mx
 from . import rounding
 from .base import ConvexSet
@@ -23,8 +23,11 @@ class Box(ConvexSet):
 
     Raises
     ------
+    TypeError
+        If a bound is not numeric (booleans included).
     ValueError
-        If the shapes differ, an entry is NaN, or ``lo > hi`` somewhere.
+        If a bound is not a 1-D vector (a row ``[[0, 0]]`` is refused, not flattened), has no entry,
+        the lengths differ, an entry is NaN, or ``lo > hi`` somewhere.
 
     Examples
     --------
@@ -35,6 +38,8 @@ class Box(ConvexSet):
 
     def __init__(self, lo: Any, hi: Any):
         lo = as_vector(lo, "lo", allow_inf=True)
+        if lo.shape[0] == 0:
+            raise ValueError("lo and hi must have at least one entry (a box of ℝⁿ, n ≥ 1), got empty bounds")
         hi = as_vector(hi, "hi", lo.shape[0], allow_inf=True)
         bad = np.flatnonzero(lo > hi)
         if bad.size:
@@ -122,6 +127,7 @@ class Box(ConvexSet):
     def sample(self, rng: np.random.Generator, size: int = 1, *, method: str = "auto") -> np.ndarray:
         """Uniform samples, shape (size, dim); exact for every ``method`` (accepted for the common signature)."""
         check_rng(rng)
+        size = check_count(size)
         if not self.is_bounded:
             raise ValueError("cannot sample uniformly from an unbounded box")
         return rng.uniform(self.lo, self.hi, size=(size, self.dim))

@@ -9,7 +9,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import tolerances as tol
-from .._validation import as_matrix, as_vector, check_rng
+from .._validation import as_matrix, as_vector, check_count, check_rng
 from . import _matrices as mx
 from .base import ConvexSet
 
@@ -110,6 +110,7 @@ class Ellipsoid(ConvexSet):
     def sample(self, rng: np.random.Generator, size: int = 1, *, method: str = "auto") -> np.ndarray:
         """Uniform samples: a uniform point of the unit ball mapped by Q^{1/2} (exact for every ``method``)."""
         check_rng(rng)
+        size = check_count(size)
         u = rng.standard_normal((size, self.dim))
         u /= np.linalg.norm(u, axis=1, keepdims=True)
         u *= rng.uniform(size=(size, 1)) ** (1.0 / self.dim)

@@ -27,7 +27,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from .. import tolerances as tol
-from .._validation import check_rng
+from .._validation import check_count, check_rng
 
 #: The flatness check factors dense matrices up to this many generators.
 FLATNESS_CHECK_MAX_GENERATORS = 2000
@@ -68,6 +68,7 @@ def uniform_sample(S, rng: np.random.Generator, size: int = 1, method: str = "au
     (3, 2)
     """
     check_rng(rng)
+    size = check_count(size)
     if method not in SAMPLING_METHODS:
         raise ValueError(f"method must be one of {SAMPLING_METHODS}, got {method!r}")
     if method == "rejection":
@@ -148,6 +149,7 @@ def hit_and_run(S, rng: np.random.Generator, size: int = 1, *, burn_in: int | No
         zero length).
     """
     check_rng(rng)
+    size = check_count(size)
     hull = S.interval_hull()
     if hull.is_empty():
         raise ValueError("cannot sample from an empty set")
@@ -233,6 +235,7 @@ def rejection_sample(S, rng: np.random.Generator, size: int = 1, max_tries: int 
         the space (`affine_rank`): a flat set has acceptance zero.
     """
     check_rng(rng)
+    size = check_count(size)
     hull = S.interval_hull()
     if hull.is_empty():
         raise ValueError("cannot sample from an empty set")

@@ -35,7 +35,8 @@ class VPolytope(ConvexSet):
     Raises
     ------
     ValueError
-        Without points, with NaN or infinite entries.
+        Without points, with NaN or infinite entries, or when ``points`` is not 2-D: ``[0, 1, 2]``
+        could be one point of ℝ³ (``[[0, 1, 2]]``) or three of ℝ (``[[0], [1], [2]]``).
 
     Examples
     --------
@@ -46,7 +47,7 @@ class VPolytope(ConvexSet):
     """
 
     def __init__(self, points: Any):
-        V = as_matrix(points, "points")
+        V = as_matrix(points, "points", layout="(k, n), one point per row")
         if V.shape[0] == 0:
             raise ValueError("points must hold at least one point (use EmptySet(n) for the empty set)")
         self._init(V)

@@ -25,6 +25,12 @@ class Zonotope(ConvexSet):
     c : array_like, shape (n,)
         Centre.
 
+    Raises
+    ------
+    ValueError
+        If ``G`` is not 2-D (a 1-D ``G`` could be one generator or n of them: it is refused), ``c``
+        is not a vector of length n, or an entry is NaN or infinite.
+
     Examples
     --------
     >>> import numpy as np, setsmooth as ss
@@ -34,7 +40,7 @@ class Zonotope(ConvexSet):
     """
 
     def __init__(self, G: Any, c: Any):
-        G = as_matrix(G, "G")
+        G = as_matrix(G, "G", layout="(n, ng), one generator per column")
         c = as_vector(c, "c", G.shape[0])
         self._init(G, c)
 
