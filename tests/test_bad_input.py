@@ -276,7 +276,7 @@ for _id, _call, _exc, _names in [
                                                x0=[0.0, 0.0, 0.0]), ValueError, r"\bx0\b"),
     ("simulate-x0_set-dim", lambda: ss.simulate(system(), ss.Box([-1], [1]), 3, np.random.default_rng(0)),
      ValueError, r"\bx0_set\b"),
-    ("simulate-rng-int", lambda: ss.simulate(system(), x0_box(), 3, 42), TypeError, r"\brng\b"),
+    ("simulate-rng-float", lambda: ss.simulate(system(), x0_box(), 3, 42.0), TypeError, r"\brng\b"),
     ("NonlinearSystem-n-float", lambda: _nonlinear(n=2.5), TypeError, r"\bn\b"),
     ("NonlinearSystem-n-zero", lambda: _nonlinear(n=0), ValueError, r"\bn\b"),
     ("NonlinearSystem-n-complex", lambda: _nonlinear(n=1 + 0j), TypeError, r"\bn\b"),

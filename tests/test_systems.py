@@ -89,7 +89,7 @@ def test_linear_system_rejects_inconsistent_dimensions(kwargs, match):
 def test_simulate_validates_its_arguments():
     sys = example_31()
     with pytest.raises(TypeError, match="rng"):
-        ss.simulate(sys, ss.Box([-1, -1], [1, 1]), 3, 42)
+        ss.simulate(sys, ss.Box([-1, -1], [1, 1]), 3, "42")
     with pytest.raises(ValueError, match="T must be"):
         ss.simulate(sys, ss.Box([-1, -1], [1, 1]), -1, np.random.default_rng())
     with pytest.raises(ValueError, match="x0_set"):

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_measurements, as_vector
+from .._validation import as_measurements, as_vector, check_system
 from ..trajectories.nominal import RecursionDeviations, about_nominal
 from ..results import SetEstimates
 from ..sets.algebra import generalized_intersection, linear_map, minkowski_sum, translate
@@ -88,8 +88,14 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
         program (`setsmooth.trajectories.generic_program`). When they all flatten to CZs they are
         `PosteriorView`s (unless ``form='recursion'``): the same CZs as projections of one shared
         sparse trajectory CZ (`setsmooth.trajectories.posterior_views`), O(T) memory for all of them.
+
+    Raises
+    ------
+    TypeError
+        When ``system`` is not a setsmooth system: a `control.StateSpace` is led to
+        `LinearSystem.from_statespace`, which adds the noise ranges.
     """
-    ys = as_measurements(ys, system.m)
+    ys = as_measurements(ys, check_system(system).m)
     _check_state_set(X0, "X0", system.n)
     if form not in FORMS:
         raise ValueError(f"form must be one of {FORMS}, got {form!r}")
@@ -214,7 +220,7 @@ def predict(system, k: int, posterior: ConvexSet) -> ConvexSet:
     ValueError
         When ``posterior`` is not a set of dimension n.
     """
-    _check_state_set(posterior, "posterior", system.n)
+    _check_state_set(posterior, "posterior", check_system(system).n)
     return _predict(system, k, posterior)
 
 
@@ -241,7 +247,7 @@ def update(system, k: int, prior: ConvexSet, y: Any) -> ConvexSet:
     ValueError, TypeError
         When ``prior`` is not a set of dimension n, or ``y`` is not a finite real vector of length m.
     """
-    _check_state_set(prior, "prior", system.n)
+    _check_state_set(prior, "prior", check_system(system).n)
     return _update(system, k, prior, as_vector(y, "y", system.m))
 
 

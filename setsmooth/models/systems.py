@@ -16,7 +16,8 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_matrix, as_vector, check_dim, check_rng, real_array, real_number
+from .._validation import (as_generator, as_matrix, as_vector, check_dim, check_system, real_array,
+                           real_number)
 from ..sets.algebra import linear_map
 from ..sets.base import ConvexSet
 
@@ -39,6 +40,7 @@ class _TimeVarying:
         if callable(spec):
             self.shape = as_matrix(spec(0), f"{name}(0)", rows, cols).shape
             self._call = spec
+            self.label, self.kind = f"{name}(0)", "callable of k"
         elif _is_sequence_of_matrices(spec):
             seq = [_frozen(as_matrix(M, f"{name}[{k}]", rows, cols)) for k, M in enumerate(spec)]
             for k, M in enumerate(seq):
@@ -47,9 +49,11 @@ class _TimeVarying:
                                      f"{seq[0].shape}: every matrix of the sequence must have one shape")
             self._seq = seq
             self.shape = seq[0].shape
+            self.label, self.kind = f"{name}[0]", f"sequence of {len(seq)}"
         else:
             self._const = _frozen(as_matrix(spec, name, rows, cols))
             self.shape = self._const.shape
+            self.label, self.kind = name, "constant"
 
     def __call__(self, k: int) -> np.ndarray:
         if self._const is not None:
@@ -110,6 +114,32 @@ class _InputTerm:
         return as_vector(self._call(k), f"u({k})", self.n)
 
 
+def _check_state_dimension(A: _TimeVarying, B: MatrixSpec, C: MatrixSpec) -> None:
+    """Blame A when B and C, given as constant matrices, agree with each other on n and not with A.
+
+    Otherwise B's and C's own checks name them: n is read from A, so without this a wrong A (say a
+    callable of the wrong size) would be reported as a wrong B.
+    """
+    rows_B, cols_C = _constant_shape(B), _constant_shape(C)
+    if rows_B is None or cols_C is None:
+        return
+    n = rows_B[0]
+    if cols_C[1] == n != A.shape[0]:
+        raise ValueError(f"{A.label} has shape {A.shape}, but B has {n} rows and C has {n} columns: "
+                         f"A must be {n}×{n} (n = {n} states); check A")
+
+
+def _constant_shape(spec: MatrixSpec) -> tuple[int, ...] | None:
+    """The shape of a matrix given as a constant 2-D array, or None (callables, sequences, others)."""
+    if callable(spec) or _is_sequence_of_matrices(spec):
+        return None
+    try:
+        shape = np.shape(spec)
+    except ValueError:  # ragged: its own check names it
+        return None
+    return shape if len(shape) == 2 else None
+
+
 def _check_noise_columns(M: _TimeVarying, set_name: str, S: ConvexSet) -> None:
     """Γ must have one column per coordinate of W (Ψ: of V); the message names both."""
     if M.shape[1] != S.dim:
@@ -164,7 +194,8 @@ class LinearSystem:
         self.A = _TimeVarying(A, "A", None, None)
         n = self.A.shape[0]
         if self.A.shape != (n, n):
-            raise ValueError(f"A must be square, got shape {self.A.shape}")
+            raise ValueError(f"{self.A.label} must be square, got shape {self.A.shape}")
+        _check_state_dimension(self.A, B, C)
         self.B = _TimeVarying(B, "B", n, None)
         _check_noise_columns(self.B, "W", W)
         self.C = _TimeVarying(C, "C", None, n)
@@ -178,6 +209,17 @@ class LinearSystem:
         if self.dt is not None and not (np.isfinite(self.dt) and self.dt > 0):
             raise ValueError(f"dt must be a positive finite sampling time or None, got {dt!r}")
         self._images: dict[str, ConvexSet] = {}
+
+    def __repr__(self) -> str:
+        varying = [f"{M.name}: {M.kind}" for M in (self.A, self.B, self.C, self.D) if not M.is_constant]
+        parts = [f"n={self.n}", f"m={self.m}", f"W={self.W!r}", f"V={self.V!r}"]
+        parts.append("time-varying " + ", ".join(varying) if varying else "constant A, B, C, D")
+        if self._u is not None:
+            parts.append("input u: " + ("callable of k" if self._u._call is not None
+                                        else f"{len(self._u._rows)} steps"))
+        if self.dt is not None:
+            parts.append(f"dt={self.dt:g}")
+        return f"LinearSystem({', '.join(parts)})"
 
     # -- pickling: the cached noise images are recomputed on demand ------------------------------
     def __getstate__(self) -> dict:
@@ -378,7 +420,7 @@ class NonlinearSystem:
         return as_vector(self.g(k, x, v), f"g({k}, x, v)")
 
 
-def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator | None,
+def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator | int | None,
              x0: Any = None, *, ws: Any = None, vs: Any = None) -> tuple[np.ndarray, np.ndarray]:
     """Simulate a trajectory with given noises, or noises drawn uniformly from their ranges.
 
@@ -389,8 +431,9 @@ def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator | None,
         ⟦x_0⟧; the initial state is drawn uniformly from it unless ``x0`` is given.
     T : int
         Final time step; states and measurements are returned for k = 0..T.
-    rng : numpy.random.Generator or None
-        The only source of randomness; may be None when ``x0``, ``ws`` and ``vs`` are all given.
+    rng : numpy.random.Generator, int or None
+        The only source of randomness: a Generator, or an int seed of ``numpy.random.default_rng``;
+        may be None when ``x0``, ``ws`` and ``vs`` are all given.
     x0 : array_like, optional
         A fixed initial state; it must lie in ``x0_set`` (membership up to the default margin).
     ws : array_like, shape (T, p), optional
@@ -410,11 +453,14 @@ def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator | None,
     Raises
     ------
     TypeError
-        When ``rng`` is not a Generator, ``T`` not an integer, or ``x0`` complex or not numeric.
+        When ``system`` is not a setsmooth system (a `control.StateSpace` is led to
+        `LinearSystem.from_statespace`), ``rng`` is neither a Generator nor an int seed, ``T`` not an
+        integer, or ``x0`` complex or not numeric.
     ValueError
         When ``T < 0``, ``x0_set`` has the wrong dimension, or ``x0`` is NaN/inf, of the wrong length
-        or outside ``x0_set``; or a matrix, input or transition value at some step is bad (named
-        as ``A(k)``, ``u(k)``, ``f(k, x, w)``).
+        or outside ``x0_set``; when W or V cannot be sampled uniformly (flat, unbounded: the message
+        says that ``ws=``/``vs=`` avoid the draw); or a matrix, input or transition value at some
+        step is bad (named as ``A(k)``, ``u(k)``, ``f(k, x, w)``).
 
     Notes
     -----
@@ -422,6 +468,7 @@ def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator | None,
     hull for small low-dimensional CZs, hit-and-run otherwise (`setsmooth.sets.sampling`). All draws are made up front in a fixed
     order (x_0, then w_0..w_{T-1}, then v_0..v_T), so a seed fixes the whole trajectory.
     """
+    check_system(system)
     if isinstance(T, bool) or not isinstance(T, (int, np.integer)):
         raise TypeError(f"T must be a non-negative integer, got {T!r}")
     if T < 0:
@@ -429,7 +476,7 @@ def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator | None,
     if not isinstance(x0_set, ConvexSet) or x0_set.dim != system.n:
         raise ValueError(f"x0_set must be a ConvexSet of dimension n = {system.n}")
     if x0 is None or ws is None or vs is None:
-        check_rng(rng)
+        rng = as_generator(rng)
     ws = None if ws is None else _given_noises(ws, "ws", T, system.W.dim)
     vs = None if vs is None else _given_noises(vs, "vs", T + 1, system.V.dim)
     if x0 is None:
@@ -439,14 +486,28 @@ def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator | None,
         if not x0_set.contains(x):
             raise ValueError(f"x0 = {x.tolist()} does not lie in x0_set")
     if ws is None:
-        ws = system.W.sample(rng, T) if T > 0 else np.zeros((0, system.W.dim))
+        ws = _drawn_noises(system.W, "W", "ws", rng, T)
     if vs is None:
-        vs = system.V.sample(rng, T + 1)
+        vs = _drawn_noises(system.V, "V", "vs", rng, T + 1)
     xs = [x]
     for k in range(T):
         xs.append(system.step(k, xs[-1], ws[k]))
     ys = [system.measure(k, xs[k], vs[k]) for k in range(T + 1)]
     return np.array(xs), np.array(ys)
+
+
+def _drawn_noises(S: ConvexSet, set_name: str, given: str, rng: np.random.Generator,
+                  rows: int) -> np.ndarray:
+    """``rows`` uniform draws from the noise range S; a set that cannot be sampled (flat, unbounded)
+    is a reason to give the noises, which the message says."""
+    if rows == 0:
+        return np.zeros((0, S.dim))
+    try:
+        return S.sample(rng, rows)
+    except ValueError as exc:
+        raise ValueError(f"cannot draw the noises uniformly from {set_name}: {exc}. Pass them as "
+                         f"{given}= (shape ({rows}, {S.dim}), one row per step) to avoid the draw"
+                         ) from exc
 
 
 def _given_noises(values: Any, name: str, rows: int, dim: int) -> np.ndarray:

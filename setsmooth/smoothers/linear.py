@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from .._validation import as_measurements
+from .._validation import as_measurements, check_system
 from ..filters.classical import classical_filter
 from ..results import SetEstimates
 from ..sets.algebra import generalized_intersection, minkowski_sum, translate
@@ -63,6 +63,9 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
 
     Raises
     ------
+    TypeError
+        When ``system`` is not a setsmooth system (a `control.StateSpace`: see
+        `LinearSystem.from_statespace`).
     ValueError
         For an unknown ``method``, ``posteriors`` with ``method='trajectory'`` (that form never reads
         them), or ``posteriors`` of the wrong length or computed from other data (another system
@@ -82,7 +85,7 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
     if method == "trajectory" and posteriors is not None:
         raise ValueError("posteriors= is only used by method='recursion'; the trajectory form never "
                          "reads them (pass method='recursion', or drop posteriors)")
-    ys = as_measurements(ys, system.m)
+    ys = as_measurements(ys, check_system(system).m)
     if method == "auto":
         method = "trajectory" if posteriors is None else "recursion"
     if method == "trajectory":
@@ -126,6 +129,7 @@ def smooth(system, posteriors: list[ConvexSet]) -> list[ConvexSet]:
     list of ConvexSet
         ``smoothed[k]`` = ⟦x_k | y_{0:T}⟧.
     """
+    check_system(system)
     if len(posteriors) < 1:
         raise ValueError("posteriors must hold at least one set")
     for k, P in enumerate(posteriors):
@@ -155,7 +159,7 @@ def smoothing_step(system, k: int, posterior: ConvexSet, next_smoothed: ConvexSe
         {x ∈ posterior : A_k x ∈ next_smoothed ⊕ B_k(−W) − u_k}; B_k(−W) is the system's cached image
         when B is constant, and a zero u_k adds no translation.
     """
-    _check_state_set(posterior, "posterior", system.n)
+    _check_state_set(posterior, "posterior", check_system(system).n)
     _check_state_set(next_smoothed, "next_smoothed", system.n)
     return _smoothing_step(system, k, posterior, next_smoothed)
 
