@@ -2,8 +2,8 @@
 
 Run i always receives ``numpy.random.default_rng(SeedSequence(seed).spawn(n_runs)[i])``, whichever
 process executes it and in whatever order runs complete, so results are bit-identical between serial
-and parallel execution and a run can be replayed on its own. The smoothing paper's figures average
-5000 such runs (Figs. 3, 5, 6).
+and parallel execution and a run can be replayed on its own (a run that raises says which it was and
+how to rebuild its generator). The smoothing paper's figures average 5000 such runs (Figs. 3, 5, 6).
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ R = TypeVar("R")
 _MAX_CHUNK = 64
 
 
-def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int,
+def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int | np.random.Generator,
         executor: Executor | str | None = None, progress: bool = True,
         workers: int | None = None) -> list[R]:
     """Call ``trial(rng)`` for ``n_runs`` independent generators and return the results in run order.
@@ -38,8 +38,10 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int,
         `functools.partial` of one.
     n_runs : int
         Number of runs, at least 1.
-    seed : int
-        Non-negative root seed; run i uses the i-th child of ``numpy.random.SeedSequence(seed)``.
+    seed : int or numpy.random.Generator
+        Non-negative root seed: run i uses the i-th child of ``numpy.random.SeedSequence(seed)``. Or a
+        Generator: the runs use children spawned from its seed sequence (as `Generator.spawn` does),
+        so two calls with one Generator give different, independent runs.
     executor : concurrent.futures.Executor, distributed.Client, 'serial' or None
         None: a `ProcessPoolExecutor` with ``workers`` processes, created and shut down here (a single
         run is executed in-process). 'serial': every run in this process, in order. An `Executor`
@@ -59,11 +61,14 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int,
 
     Raises
     ------
+    Exception
+        Whatever a run raised, with a note naming the run index and its generator: the first failing
+        run in run order (with a Dask client, the first to fail).
     TypeError
-        When ``trial`` is not callable, ``n_runs``/``seed``/``workers`` are not integers,
-        ``executor`` is neither None, 'serial', an Executor nor a Dask client, or a process pool would run a
-        ``trial`` that cannot be pickled (a lambda, a local function, a partial of one): checked
-        before the pool starts.
+        When ``trial`` is not callable, ``n_runs``/``workers`` are not integers, ``seed`` is neither
+        an integer nor a Generator with a seed sequence, ``executor`` is neither None, 'serial', an
+        Executor nor a Dask client, or a process pool would run a ``trial`` that cannot be pickled
+        (a lambda, a local function, a partial of one): checked before the pool starts.
     ValueError
         When ``n_runs < 1``, ``seed < 0`` or ``workers < 1``.
     """
@@ -71,7 +76,7 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int,
         raise TypeError("trial must be a callable taking a numpy.random.Generator, got "
                         f"{type(trial).__name__}")
     n_runs = _integer(n_runs, "n_runs", minimum=1)
-    seed = _integer(seed, "seed", minimum=0)
+    root = _root_seed_sequence(seed)
     if workers is not None:
         workers = _integer(workers, "workers", minimum=1)
     serial = isinstance(executor, str) and executor == "serial"
@@ -80,8 +85,9 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int,
         raise TypeError("executor must be None, 'serial', a concurrent.futures.Executor or a "
                         f"dask.distributed.Client, got {executor!r}")
 
-    seeds = np.random.SeedSequence(seed).spawn(n_runs)
-    call = functools.partial(_call_trial, trial)
+    seeds = root.spawn(n_runs)  # last, so that a refused call leaves a Generator's spawn count as it was
+    # Children are numbered on from the parent's earlier spawns: run i has the key first + i.
+    call = functools.partial(_call_trial, trial, seeds[0].spawn_key[-1])
     bar = functools.partial(tqdm, total=n_runs, disable=not progress, desc="Monte Carlo", unit="run")
 
     if serial or (executor is None and n_runs == 1):
@@ -104,6 +110,18 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int,
     finally:
         # On an error (or Ctrl-C) do not wait for thousands of queued runs.
         pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _root_seed_sequence(seed: Any) -> np.random.SeedSequence:
+    """The sequence the runs' generators are spawned from: SeedSequence(seed), or a Generator's own."""
+    if isinstance(seed, np.random.Generator):
+        root = seed.bit_generator.seed_seq
+        if not isinstance(root, np.random.SeedSequence):  # a bit generator seeded the legacy way
+            raise TypeError("seed is a numpy.random.Generator without a SeedSequence to spawn runs "
+                            "from; pass numpy.random.default_rng(...) or an int seed")
+        return root
+    return np.random.SeedSequence(_integer(seed, "seed", minimum=0,
+                                           what="an integer or a numpy.random.Generator"))
 
 
 def _is_dask_client(obj: Any) -> bool:
@@ -142,17 +160,36 @@ def _picklable(obj: Any) -> bool:
     return True
 
 
-def _call_trial(trial: Callable[[np.random.Generator], Any], seed_seq: np.random.SeedSequence) -> Any:
-    return trial(np.random.default_rng(seed_seq))
+def _call_trial(trial: Callable[[np.random.Generator], Any], first_key: int,
+                seed_seq: np.random.SeedSequence) -> Any:
+    try:
+        return trial(np.random.default_rng(seed_seq))
+    except Exception as exc:
+        _add_note(exc, f"in Monte Carlo run {seed_seq.spawn_key[-1] - first_key}; replay it with "
+                       f"trial(numpy.random.default_rng(numpy.random.SeedSequence({seed_seq.entropy}, "
+                       f"spawn_key={seed_seq.spawn_key})))")
+        raise
+
+
+def _add_note(exc: Exception, note: str) -> None:
+    """PEP 678's note (Python 3.11+; on 3.10 kept in ``__notes__``, where tracebacks do not show it).
+
+    The exception keeps its type and message, so a caller's ``except`` still catches it; the note
+    pickles with it back from a worker process.
+    """
+    if hasattr(exc, "add_note"):
+        exc.add_note(note)
+    else:  # pragma: no cover - Python 3.10
+        exc.__notes__ = [*getattr(exc, "__notes__", []), note]
 
 
 def _chunksize(n_runs: int, n_workers: int) -> int:
     return max(1, min(_MAX_CHUNK, n_runs // (4 * n_workers)))
 
 
-def _integer(value: Any, name: str, minimum: int) -> int:
+def _integer(value: Any, name: str, minimum: int, what: str = "an integer") -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
+        raise TypeError(f"{name} must be {what}, got {type(value).__name__}")
     if value < minimum:
         raise ValueError(f"{name} must be >= {minimum}, got {value}")
     return int(value)
