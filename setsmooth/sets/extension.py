@@ -9,12 +9,19 @@ They are ordinary overridable methods with documented contracts; the library's o
 override the private hooks instead (``_support``, ``_as_constrained_zonotope``), and
 ``_as_constrained_zonotope`` stays the default of the public hook. `setsmooth.sets.base` dispatches to
 them (`overrides` says whether a class overrides one) and checks what they return at the door.
+
+The one required method, ``constraints(x)``, is checked too when a user's class defines it: every
+program calls it (the generic path, membership, lazy sets, trajectory programs), so a constraint that
+is not convex is named with the set's class at the first query rather than as CVXPY's ``DCPError``
+from inside a solver call.
 """
 
 from __future__ import annotations
 
+import functools
 from typing import TYPE_CHECKING, Any
 
+import cvxpy as cp
 import numpy as np
 
 from .._validation import as_directions
@@ -27,6 +34,13 @@ class ExtensionPoints:
     """The public hooks a user representation may override (inherited by every `ConvexSet`)."""
 
     __slots__ = ()
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        own = vars(cls).get("constraints")
+        # The library's own representations are trusted (and tested); users' are checked.
+        if own is not None and not cls.__module__.startswith("setsmooth."):
+            cls.constraints = _convexity_checked(own)
 
     def as_constrained_zonotope(self) -> "ConstrainedZonotope | None":
         """Extension point: an exact constrained-zonotope form of this set, or None.
@@ -99,6 +113,27 @@ class ExtensionPoints:
         """(values, points) from a program: the CZ fast path, else the generic path."""
         cz = self._flat_cz
         return cz._support(D, False) if cz is not None else self._generic.support(D)
+
+
+def _convexity_checked(constraints):
+    """A user's ``constraints(self, x)`` that checks its result: CVXPY constraints, each convex (DCP)."""
+    if getattr(constraints, "__isabstractmethod__", False):
+        return constraints
+
+    @functools.wraps(constraints)
+    def checked(self, x):
+        cons = list(constraints(self, x))
+        what = f"{type(self).__name__}.constraints(x)"
+        for c in cons:
+            if not isinstance(c, cp.constraints.constraint.Constraint):
+                raise TypeError(f"{what} must return CVXPY constraints, got a {type(c).__name__}: {c!r}")
+            if not c.is_dcp():
+                raise TypeError(f"{what} returned a constraint that is not convex under CVXPY's DCP "
+                                f"rules: {c}. A ConvexSet is described by convex constraints: affine "
+                                "equalities, convex ≤ concave (https://www.cvxpy.org/tutorial/dcp/)")
+        return cons
+
+    return checked
 
 
 def overrides(S, name: str) -> bool:
