@@ -1,4 +1,4 @@
-"""Command line: ``setsmooth figures [NAME...] [--runs N] [--out DIR] [--seed S] [--workers W | --scheduler ADDRESS] [--format pdf,svg]``.
+"""Command line: ``setsmooth figures [NAME...] [--runs N] [--out DIR] [--seed S] [--workers W | --scheduler ADDRESS] [--format pdf,svg] [--blas-threads N]``.
 
 Regenerates the paper figures. The scripts live in the repository's ``paper_figures/`` directory,
 outside the package; it is looked for in ``$SETSMOOTH_FIGURES_DIR``, then in the working directory and
@@ -8,7 +8,10 @@ Run sizes: each script has its own default: Figs. 3 and 5 use 300 runs, Fig. 4 t
 per (q, r) pair, Fig. 6 the paper's 5000 runs. Together that is 430–700 CPU-seconds (7–10 minutes
 measured on a 2-core machine shared with other jobs, about 4–6 minutes on 2 idle cores). ``--runs N``
 sets every figure to N runs, except that Fig. 4 uses min(N, 100) runs per pair, the paper's size;
-``--runs 5000`` reproduces the paper's sizes throughout (one to two hours on 2 cores).
+``--runs 5000`` reproduces the paper's sizes throughout (one to two hours on 2 cores). Stability
+Table 1 runs the paper's 101 steps with 2 runs by default (its radii need a standard error), about
+180 CPU-seconds a run, most of it the OIT-CZ's certified hulls at n = 30; it uses min(N, 100) runs,
+the paper's size.
 
 ``--scheduler ADDRESS`` sends the runs to a Dask cluster instead of local processes (the
 ``setsmooth[dask]`` extra; every worker needs ``setsmooth`` installed). Results are bit-identical to a
