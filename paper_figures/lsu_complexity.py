@@ -4,9 +4,10 @@ The paper's Algorithm 1 asks for "maximal number of generators n_g and constrain
 neither its values nor its reduction. We run LSUCZ-1 for several budgets of our reduction pipeline
 Rescale(rescale) → EliminateConstraints(n_c) → Girard((n_g − n_c)/n), with LSUP and LSUO as references,
 on t̄ = 300 steps (the errors are steady long before), and report steady RMSE (t ≥ 11) and seconds.
-At K ≤ 1 the paper's full-horizon RMSE is its steady part (the prior's transient is negligible there), so
-the sweep shows which budget reproduces the paper's LSUCZ-1 column: the default (9, 2) is several times
-more accurate than the published LSU-CZ.
+The paper's Table 1 is a full-horizon RMSE over t̄ = 600 steps; to compare each budget with it we
+extrapolate ours to t̄ = 600: the first STEADY_FROM steps' squared errors as measured, the steady mean
+square error (t ≥ 11) for the other 590 steps. Where a budget's steady error is small (the default (9, 2))
+that number is our prior's transient, which the paper's unstated prior may not share.
 """
 
 from __future__ import annotations
@@ -49,6 +50,7 @@ def _timed_trial(rng, K_values, horizon, budgets) -> dict:
     us = rng.standard_normal((horizon, 1))
     seed = int(rng.integers(2 ** 63))
     rmse = np.empty((len(K_values), len(budgets)))
+    rmse_paper_horizon = np.empty((len(K_values), len(budgets)))
     seconds = np.empty((len(K_values), len(budgets)))
     reference = np.empty((len(K_values), 2))
     for i, K in enumerate(K_values):
@@ -60,13 +62,15 @@ def _timed_trial(rng, K_values, horizon, budgets) -> dict:
                                  estimates=("interval_hull",), std=False)
             seconds[i, j] = time.perf_counter() - clock
             rmse[i, j] = _steady_rmse(r.estimates["interval_hull"], xs)
+            rmse_paper_horizon[i, j] = _rmse_at_paper_horizon(r.estimates["interval_hull"], xs)
         reference[i] = [_steady_rmse(f(m, ys, us, std=False).estimates["center"], xs)
                         for f in (ss.lsup_filter, ss.lsuo_filter)]
-    return {"rmse": rmse, "seconds": seconds, "reference": reference}
+    return {"rmse": rmse, "rmse_paper_horizon": rmse_paper_horizon, "seconds": seconds, "reference": reference}
 
 
 def _paper_column(K_values, labels, budgets, rmse, rmse_se, runs) -> tuple[list[dict], list[dict]]:
-    """Rows and a check: each budget's LSUCZ-1 RMSE·10³ against the paper's Table 1 at K ≤ 1."""
+    """Rows and a check: each budget's LSUCZ-1 RMSE·10³ (``rmse``: extrapolated to t̄ = 600, see the
+    module docstring) against the paper's Table 1 at K ≤ 1."""
     compared = [i for i, K in enumerate(K_values) if K <= 1.0 and ex.PUBLISHED_RMSE.get(K)]
     if not compared:
         return [], []
@@ -75,22 +79,31 @@ def _paper_column(K_values, labels, budgets, rmse, rmse_se, runs) -> tuple[list[
     # The budget whose RMSE is closest to the paper's, in log ratio over the compared K.
     closest = int(np.argmin(np.abs(np.log(ratio)).mean(axis=0)))
     where = " / ".join(f"K = {K_values[i]:g}" for i in compared)
-    rows = [row(f"LSUCZ-1 RMSE·10³ per budget against the paper's Table 1 ({where}): ours / paper",
+    rows = [row(f"LSUCZ-1 RMSE·10³ at t̄ = 600 (steady part extrapolated) per budget against the paper's "
+                f"Table 1 ({where}): ours / paper",
                 " / ".join(f"{p:g}" for p in paper),
                 "; ".join(f"{label}: " + " / ".join(f"{r:.2f}" for r in ratio[:, j]) for j, label in enumerate(labels))
                 + f"; closest: {labels[closest]}")]
     checks = []
     if DEFAULT_BUDGET in budgets:
         d = budgets.index(DEFAULT_BUDGET)
-        rows.append(row(f"default budget {labels[d]}: LSUCZ-1 more accurate than the paper's by", "—",
-                        " / ".join(f"{1 / r:.1f}×" for r in ratio[:, d]) + f" ({where})"))
+        rows.append(row(f"default budget {labels[d]}: LSUCZ-1 RMSE at t̄ = 600 below the paper's by", "—",
+                        " / ".join(f"{1 / r:.1f}×" for r in ratio[:, d]) + f" ({where}; mostly our prior's "
+                        "transient: the steady RMSE is in the rows above)"))
     checks.append(_verdicts.value(
         f"LSUCZ-1 RMSE·10³ ({where}) with the closest budget {labels[closest]}", list(rmse[compared, closest]),
         list(paper), list(rmse_se[compared, closest]),
         shape="some budget between (3, 0) and (9, 2) brackets the paper's LSU-CZ column",
         shape_holds=bool(np.any(ratio.min(axis=1) <= 1) and np.any(ratio.max(axis=1) >= 1)),
-        error=f"s.e. over {runs} runs (steady RMSE, t = 11..{HORIZON})"))
+        error=f"s.e. over {runs} runs (t̄ = {HORIZON}, steady part extrapolated to 600)"))
     return rows, checks
+
+
+def _rmse_at_paper_horizon(estimate, xs):
+    """RMSE over t̄ = ex.T steps: the measured first STEADY_FROM steps, then the steady mean square error."""
+    e2 = (estimate - xs) ** 2
+    transient = e2[:ex.STEADY_FROM].mean(axis=1).sum()
+    return float(np.sqrt((transient + (ex.T - ex.STEADY_FROM) * e2[ex.STEADY_FROM:].mean()) / ex.T))
 
 
 def _steady_rmse(estimate, xs):
@@ -105,6 +118,7 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
     results = montecarlo.run(partial(trial, K_values=tuple(K_values), horizon=horizon, budgets=tuple(budgets)),
                              runs, seed, executor=executor, progress=progress, workers=workers)
     rmse, rmse_se = ex.mean_se(np.array([r["rmse"] for r in results]) * 1e3)
+    full, full_se = ex.mean_se(np.array([r["rmse_paper_horizon"] for r in results]) * 1e3)
     ref, ref_se = ex.mean_se(np.array([r["reference"] for r in results]) * 1e3)
     seconds = np.array([r["seconds"] for r in results]).mean(axis=(0, 1)) / horizon * 1e3
     labels = [f"n_g={ng}, n_c={nc}, {rescale}" for ng, nc, rescale in budgets]
@@ -117,7 +131,7 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
                         f" best: {labels[best]}"))
     rows.append(row("LSU-CZ ms per step (all estimates off but Method 1), per budget", "—",
                     " / ".join(f"{s:.2f}" for s in seconds)))
-    comparison, checks = _paper_column(K_values, labels, budgets, rmse, rmse_se, runs)
+    comparison, checks = _paper_column(K_values, labels, budgets, full, full_se, runs)
     rows += comparison
     fig, ax = plt.subplots(figsize=(8, 5))
     for j, label in enumerate(labels):
@@ -139,7 +153,8 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
                          "prior box": "x_1 ~ U([−1, 1]³)"},
             "checks": checks,
             "published": {"runs": "—"}, "K": list(K_values), "budgets": labels,
-            "rmse_steady": rmse, "rmse_steady_se": rmse_se, "reference_lsup_lsuo": ref,
+            "rmse_steady": rmse, "rmse_steady_se": rmse_se, "rmse_paper_horizon": full,
+            "rmse_paper_horizon_se": full_se, "reference_lsup_lsuo": ref,
             "ms_per_step": seconds}
     return finish(out, NAME, PAPER, fig, data, clock)
 
