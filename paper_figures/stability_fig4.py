@@ -26,6 +26,7 @@ import numpy as np
 import setsmooth as ss
 from setsmooth import analysis, montecarlo
 
+import _blas
 import _stability_examples as ex
 import _verdicts as v
 from _outputs import Stopwatch, cli, finish, row
@@ -46,8 +47,16 @@ OFFSET_TEXT = {"paper": "c ~ U[−1, 1]^n (the paper's text)",
 
 
 def trial(rng: np.random.Generator, kind: str, p: int, n: int = N, T: int = T, offset: str = "paper") -> dict:
-    """One run: draw the system, simulate, filter; the hull diameters and gap bounds, k = 0..T; and
-    ``resets_by_offset``: the Line-5 resets under each offset of OFFSETS (the same c up to its scale)."""
+    """One run: draw the system, simulate, filter; the hull diameters and gap bounds, k = 0..T;
+    ``resets_by_offset``: the Line-5 resets under each offset of OFFSETS (the same c up to its scale);
+    ``seconds`` timed with BLAS limited to one thread, ``blas_threads`` the count read back."""
+    with _blas.limited(1):
+        result = _run(rng, kind, p, n, T, offset)
+        result["blas_threads"] = _blas.thread_counts(_blas.in_force())
+    return result
+
+
+def _run(rng, kind, p, n, T, offset) -> dict:
     if kind == "observable":
         drawn = analysis.random_observable_system(rng, n, p, p)
         delta_bar = n - int(np.linalg.matrix_rank(drawn.C)) + 3
@@ -109,6 +118,8 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
                      "delta_bar": "observable n − rank(C) + 3 = 13 − p; detectable 3",
                      "initial_condition": f"[−10, 10]^n ⊕ {{c}}, {OFFSET_TEXT[offset]}",
                      "offset": offset,
+                     "BLAS threads in force while timing (read back)":
+                         sorted({t for rs in results.values() for r in rs for t in r["blas_threads"]}),
                      "diameter": "∞-norm diameter of the certified interval hull (2 × largest half-width)",
                      "gap": "max_i max(|x_i − lo_i|, |x_i − hi_i|) on the interval hull"},
         "published": {"runs": PAPER_RUNS, "claim": "OIT-CZ SMF stable and uniformly bounded (Theorem 4)"},
