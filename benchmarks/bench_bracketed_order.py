@@ -1,4 +1,4 @@
-"""Which solver answers a bracketed support direction first (`factor_set.BRACKETED_ATTEMPTS`),
+"""Which solver answers a bracketed support direction first (`policy.POLICIES`),
 side by side in one run.
 
 A constrained zonotope's support programs are bracketed: every answer is checked against a certified
@@ -25,17 +25,23 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from benchmarks import side_by_side  # noqa: E402
-from setsmooth.solvers import factor_set  # noqa: E402
+from setsmooth.solvers import policy  # noqa: E402
+from setsmooth.solvers.policy import FALLBACKS, POLICIES, Attempt  # noqa: E402
 
 #: (reliability index, regime, estimator): the recursion smoother's slowest box and CZ cases of the
 #: last coverage run. (The order applies to programs whose factors are all bounded, as the recursion
 #: smoother's are; trajectory sets and posterior views have free factors and keep Clarabel first,
-#: `factor_set.BRACKETED_ATTEMPTS_FREE`.)
+#: `policy.POLICIES`.)
 CASES = ((43, "scale1e-06", "recursion"), (45, "scale1", "recursion"), (0, "scale1", "recursion"))
 
-ORDERS = {"interior": {"BRACKETED_ATTEMPTS": (False, "simplex")},
-          "simplex": {"BRACKETED_ATTEMPTS": ("simplex", False)}}
+def _bracketed(first: str, second: str) -> dict:
+    """The policy table with the bracketed purpose (all factors bounded) asking ``first`` first."""
+    return {**POLICIES, ("bracketed", False): (Attempt(first), Attempt(second)) + FALLBACKS}
+
+
+ORDERS = {"interior": {"POLICIES": _bracketed("clarabel", "simplex")},
+          "simplex": {"POLICIES": _bracketed("simplex", "clarabel")}}
 
 
 if __name__ == "__main__":
-    side_by_side.main(__doc__, CASES, factor_set, ORDERS, repeats=3)
+    side_by_side.main(__doc__, CASES, policy, ORDERS, repeats=3)

@@ -1,4 +1,4 @@
-"""The simplex fallback's tolerance ladder (`setsmooth.solvers.presolve.SIMPLEX_TOLERANCES`), side
+"""The simplex fallback's tolerance ladder (`setsmooth.solvers.highs.SIMPLEX_TOLERANCES`), side
 by side in one run against the single tight rung it replaced.
 
 The recursion smoother (Algorithm 1) is the estimator whose support programs fall back to HiGHS most
@@ -8,7 +8,7 @@ the plain and certified interval hulls of every smoothed set in three configurat
 * ``tight``: the first fallback, one cold HiGHS solve (SciPy's ``linprog``) at feasibility
   tolerances 1e-10 with no iteration cap (patched in for this benchmark only);
 * ``cold``: the ladder 1e-10, then 1e-9, then HiGHS's defaults, each rung capped, every objective
-  from scratch (`presolve.simplex_cold`);
+  from scratch (`highs.simplex_cold`);
 * ``warm``: as built, the same ladder on one kept HiGHS model per program, warm-started from the last
   objective's basis (`warm_simplex.WarmSimplex`).
 
@@ -32,7 +32,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from setsmooth.solvers import factor_set, presolve  # noqa: E402
+from setsmooth.solvers import highs, warm_simplex  # noqa: E402
+from setsmooth.solvers.backends import BACKENDS  # noqa: E402
 from benchmarks.side_by_side import hulls as estimator_hulls  # noqa: E402
 from tests.reliability.oracle import data_scale  # noqa: E402
 from tests.reliability.random_systems import base_case, in_regime  # noqa: E402
@@ -45,21 +46,23 @@ CASES = ((0, 20, "scale1"), (29, 20, "scale1"), (18, 20, "offset1e+06"))
 @contextlib.contextmanager
 def configured(config: str, calls: collections.Counter):
     """Patch the support fallback to ``config`` ('tight', 'cold' or 'warm') and count its calls."""
-    saved = presolve.SIMPLEX_TOLERANCES, presolve._rung_iterations, factor_set.simplex
+    saved = (dict(BACKENDS), highs.SIMPLEX_TOLERANCES, warm_simplex.SIMPLEX_TOLERANCES,
+             highs.rung_iterations)
     if config == "tight":
-        presolve.SIMPLEX_TOLERANCES = (1e-10,)
-        presolve._rung_iterations = lambda size, last: 2 ** 31 - 1
-    fallback = presolve.simplex if config == "warm" else presolve.simplex_cold
+        highs.SIMPLEX_TOLERANCES = warm_simplex.SIMPLEX_TOLERANCES = (1e-10,)
+        highs.rung_iterations = lambda size, last: 2 ** 31 - 1
+    fallback = BACKENDS["simplex" if config == "warm" else "simplex cold"]
 
-    def counted(pre, q):
+    def counted(pre, q, batch=None):
         calls[config] += 1
-        return fallback(pre, q)
+        return fallback(pre, q, batch)
 
-    factor_set.simplex = counted
+    BACKENDS["simplex"] = counted
     try:
         yield
     finally:
-        presolve.SIMPLEX_TOLERANCES, presolve._rung_iterations, factor_set.simplex = saved
+        BACKENDS.update(saved[0])
+        highs.SIMPLEX_TOLERANCES, warm_simplex.SIMPLEX_TOLERANCES, highs.rung_iterations = saved[1:]
 
 
 def hulls(case) -> np.ndarray:

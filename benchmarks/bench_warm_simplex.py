@@ -2,7 +2,7 @@
 run against the one it replaced.
 
 The recursion smoother's hulls (Algorithm 1: degenerate sets of O(T²) factors) are answered by the
-warm-started simplex method first (`factor_set.BRACKETED_ATTEMPTS`). Each set's program starts a
+warm-started simplex method first (`policy.POLICIES`). Each set's program starts a
 batch from its feasible basis (the zero objective's optimum) and then solves the hull's directions,
 each from the last optimum. Two configurations, alternating on the same cases:
 

@@ -57,14 +57,17 @@ def test_a_stalled_membership_program_is_settled_by_the_simplex_method(monkeypat
 
 
 def _no_highs_fallback(monkeypatch):
-    """Make every HiGHS fallback (simplex and interior-point method) fail, as on data no solver
+    """Make every HiGHS backend (simplex and interior-point method) fail, as on data no solver
     settles."""
-    for name in ("simplex", "simplex_cold", "interior_point"):
-        monkeypatch.setattr(solvers.factor_set, name, lambda pre, q: (
-            "MaxIterations", np.full(pre.A.shape[1], np.nan), np.full(pre.A.shape[0], np.nan)))
-    monkeypatch.setattr(solvers.factor_set, "simplex_inequalities", lambda q, rows, r: (
+    from setsmooth.solvers.backends import BACKENDS, Answer
+
+    for name in ("simplex", "simplex cold", "interior"):
+        monkeypatch.setitem(BACKENDS, name, lambda pre, q, batch=None: Answer(
+            "unsettled", np.full(pre.A.shape[1], np.nan), np.full(pre.A.shape[0], np.nan),
+            "MaxIterations"))
+    monkeypatch.setattr(solvers.phase_one, "simplex_inequalities", lambda q, rows, r: (
         "MaxIterations", np.full(rows.shape[1], np.nan), np.full(rows.shape[0], np.nan)))
-    monkeypatch.setattr(solvers.factor_set, "simplex_box_equalities", lambda q, A: (
+    monkeypatch.setattr(solvers.recession, "simplex_box_equalities", lambda q, A: (
         "MaxIterations", np.full(A.shape[1], np.nan)))
 
 

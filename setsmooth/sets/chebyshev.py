@@ -83,7 +83,7 @@ def chebyshev_ball(Z) -> ChebyshevBall:
 
 
 def _lifted_ball(Z, widths: np.ndarray) -> ChebyshevBall:
-    from ..solvers.conic import solve_problem
+    from ..solvers.cvxpy_problems import solve_problem
 
     G = Z.G.toarray() if sp.issparse(Z.G) else np.asarray(Z.G)
     A = Z.A.toarray() if sp.issparse(Z.A) else np.asarray(Z.A)

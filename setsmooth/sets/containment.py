@@ -254,7 +254,7 @@ def _support_values(S, H: np.ndarray) -> tuple[np.ndarray, bool]:
 
 def _cz_sufficient(Z1, Z2, tol: float | None) -> Containment:
     """The linear sufficient condition of the module docstring, as one LP (CVXPY, Clarabel)."""
-    from ..solvers.conic import solve_problem
+    from ..solvers.cvxpy_problems import solve_problem
 
     G1, A1, G2, A2 = (M.toarray() if sp.issparse(M) else np.asarray(M) for M in (Z1.G, Z1.A, Z2.G, Z2.A))
     c1, b1, h1, c2, b2, h2 = (np.asarray(v, dtype=float) for v in (Z1.c, Z1.b, Z1.h, Z2.c, Z2.b, Z2.h))

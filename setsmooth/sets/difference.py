@@ -164,7 +164,7 @@ def _intersect_translates(cz, points: np.ndarray):
 def _inner(cz, GT: np.ndarray, cT: np.ndarray):
     """Z(G, c − c_T, A, b, h − |Γ|𝟙) for the least-shrinking Γ with GΓ = G_T, AΓ = 0."""
     from ..solvers import SolverError
-    from ..solvers.conic import solve_problem
+    from ..solvers.cvxpy_problems import solve_problem
     from .constrained_zonotope import ConstrainedZonotope
     from .empty import EmptySet
 

@@ -117,7 +117,7 @@ def generic_contains(S, p: np.ndarray, margin) -> bool:
         return S._generic.contains(p, float(margin))
     import cvxpy as cp
 
-    from ..solvers.conic import solve_problem
+    from ..solvers.cvxpy_problems import solve_problem
 
     from ..solvers import SolverError
 

@@ -2,14 +2,18 @@
 
 * `clarabel_lp`: the Clarabel adapter, its settings, and the status policy (`SolverError`).
 * `factor_set`: the **fast path** for constrained zonotopes: the factor set {ξ : Aξ = b, |ξ| ≤ h},
-  presolved (`presolve`) and set up in Clarabel once per thread, one sparse LP per direction, emptiness
-  by an elastic phase-one program (`FactorConstraints`); `cz_program`: the support, certificate and
-  membership programs of one CZ (`CZProgram`); `certify`: floating-point-sound weak-duality bounds.
+  presolved (`presolve`, `free_factors`), one sparse LP per direction (`FactorConstraints`): the
+  attempts of the solver policy (`policy`, as data), each answered by a backend (`backends`:
+  Clarabel; HiGHS by `highs` and `warm_simplex`) and judged by `maximization`; emptiness by an
+  elastic phase-one program (`phase_one`), unbounded directions by a recession program
+  (`recession`). `cz_program`: the support and certificate programs of one CZ (`CZProgram`),
+  `cz_membership` its membership program; `certify`: floating-point-sound weak-duality bounds.
 * `generic`: the **generic path** for any set: its CVXPY constraints with the direction as a
   ``cp.Parameter``, compiled once per program (`GenericProgram`), and the Chebyshev ball of an
   H-polytope.
-* `conic`: a compiled conic program solved by Clarabel directly (`ConicForm`): equilibration,
-  verification of answers, Clarabel's status names, emptiness by an elastic phase-one program.
+* `conic`: a compiled conic program solved by Clarabel directly (`ConicForm`): equilibration
+  (`conic_scaling`), verification of answers (`conic_checks`), Clarabel's status names, emptiness by
+  an elastic phase-one program; `cvxpy_problems`: CVXPY problems solved through it.
 * `closest`: the point of a constrained zonotope closest to a reference in the 1-, 2- or ∞-norm
   (`closest_point`), one program on the factor set.
 * `instances`: solver instances kept per thread (`cached_instance`), never on a set.

@@ -41,19 +41,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import clarabel
-import cvxpy as cp
 import numpy as np
 import scipy.sparse as sp
 
 from .. import tolerances as tol
 from . import clarabel_lp
 from .clarabel_lp import SolverError
+from .conic_checks import violations
+from .conic_scaling import bound_sizes, groups, ruiz
 
-__all__ = ["ConicForm", "ConicSolution", "solve_problem"]
-
-#: Ruiz equilibration passes: enough to bring rows and columns spread over 1e±12 to within a factor
-#: of ~2 of each other.
-_RUIZ_PASSES = 25
+__all__ = ["ConicForm", "ConicSolution"]
 
 _SOLVED = ("Solved", "AlmostSolved")
 
@@ -125,94 +122,13 @@ class ConicForm:
 
     # -- scaling -------------------------------------------------------------------------------------
     def _groups(self) -> np.ndarray:
-        """Start row of every block whose rows share one scaling factor (a cone keeps its shape
-        only under a common factor; linear rows each form their own block)."""
-        linear = self.n_zero + self.n_nonneg
-        starts = list(range(linear))
-        row = linear
-        for k in self.soc:
-            starts.append(row)
-            row += k
-        if row < self.m:
-            starts.append(row)  # other cones: one common factor
-        return np.array(starts, dtype=int)
-
-    def _bound_sizes(self) -> np.ndarray:
-        """A starting column scaling from the variables' bounds: a linear row a·z_j ≤ b_i (or = b_i)
-        says z_j has size ~|b_i/a|. Ruiz balances the matrix, not the variables: without this a
-        variable bounded by 1e-8 next to one of size 1e12 stays at 1e-8 after scaling, below the
-        solver's absolute accuracy."""
-        c = np.ones(self.nz)
-        lin = self.A[: self.n_zero + self.n_nonneg].tocsr()
-        counts = np.diff(lin.indptr)
-        rows = np.flatnonzero((counts == 1) & (self.b[: lin.shape[0]] != 0))
-        if rows.size:
-            cols = lin.indices[lin.indptr[rows]]
-            size = np.abs(self.b[rows] / lin.data[lin.indptr[rows]])
-            bound = np.zeros(self.nz)
-            np.maximum.at(bound, cols, size)
-            c = np.where(bound > 0, bound, 1.0)
-        return self._defined_sizes(c)
-
-    def _defined_sizes(self, c: np.ndarray) -> np.ndarray:
-        """Starting scales of the variables defined by one equality: a column whose only entry
-        a_ij lies in a zero-cone row i is z_j = (b_i − Σ_k a_ik z_k)/a_ij, of the size
-        max(|b_i|, max_k |a_ik| c_k)/|a_ij| of the row's other terms (k over the columns that are
-        not themselves defined so).
-
-        Ruiz cannot place such a column: its row and column factors only meet in their product, and
-        the square-root splits it starts from leave, e.g., x = Gη + c of a set stated in coordinates
-        of size 1e-12 (entry 4e12 on x, O(1) on η) at r = c_x = 5e-7 — the row's η terms at 1e-7
-        and the objective xᵀd' below the solver's absolute accuracy (support values 7e-5 of the
-        scale too low, yet within its tolerances)."""
-        if self.n_zero == 0:
-            return c
-        A = self.A.tocsc()
-        single = np.diff(A.indptr) == 1
-        rows = np.full(self.nz, -1)
-        rows[single] = A.indices[A.indptr[:-1][single]]
-        entry = np.zeros(self.nz)
-        entry[single] = np.abs(A.data[A.indptr[:-1][single]])
-        # An explicit zero (a parameter set to 0, e.g. a dropped measurement) defines nothing.
-        defined = single & (rows >= 0) & (rows < self.n_zero) & (entry > 0)
-        if not defined.any():
-            return c
-        cols = np.flatnonzero(defined)
-        coef = entry[cols]
-        Z = abs(self.A[: self.n_zero]) @ sp.diags(np.where(defined, 0.0, c))
-        others = np.maximum(np.asarray(Z.max(axis=1).todense()).ravel(),
-                            np.abs(self.b[: self.n_zero]))[rows[cols]]
-        c = c.copy()
-        c[cols] = np.where(others > 0, others / coef, c[cols])
-        return c
+        """Start row of every block of rows sharing one scaling factor (`conic_scaling.groups`)."""
+        return groups(self.n_zero, self.n_nonneg, self.soc, self.m)
 
     def _equilibrate(self) -> tuple[np.ndarray, np.ndarray, float]:
-        """Ruiz scaling of the augmented matrix [A b]: row factors r (common within a cone), column
-        factors c and one factor β for b, so that the solution z' = β·z/c of the scaled program has
-        entries of comparable size: a bound h_j = 1e12 next to h_k = 1e-8 would otherwise leave the
-        small factors to the solver's absolute accuracy relative to the large ones."""
-        r, c, beta = np.ones(self.m), self._bound_sizes(), 1.0
-        if self.m == 0:
-            return r, c, beta
-        starts = self._groups()
-        sizes = np.diff(np.append(starts, self.m))
-        absA, absb = abs(self.A), np.abs(self.b)
-        for _ in range(_RUIZ_PASSES):
-            M = sp.diags(r) @ absA @ sp.diags(c)
-            rb = r * absb * beta
-            rows = np.maximum(np.asarray(M.max(axis=1).todense()).ravel(), rb)
-            block = np.repeat(np.maximum.reduceat(rows, starts), sizes)
-            cols = np.asarray(M.max(axis=0).todense()).ravel()
-            bmax = rb.max(initial=0.0)
-            sizes_now = np.concatenate([block, cols, [bmax]])
-            sizes_now = sizes_now[sizes_now > 0]
-            if sizes_now.size == 0 or np.abs(np.log2(sizes_now)).max() < 1:
-                break
-            r = r / np.sqrt(np.where(block > 0, block, 1.0))
-            c = c / np.sqrt(np.where(cols > 0, cols, 1.0))
-            if bmax > 0:
-                beta = beta / np.sqrt(bmax)
-        return r, c, beta
+        """Ruiz scaling of [A b] from the variables' bound sizes (`conic_scaling`)."""
+        start = bound_sizes(self.A, self.b, self.n_zero, self.n_nonneg)
+        return ruiz(self.A, self.b, self._groups(), start)
 
     def _rescale_to(self, z: np.ndarray) -> None:
         """Rescale so that the variables of the solution z (original scaling) are all of size ~1
@@ -379,103 +295,9 @@ class ConicForm:
         zs = np.asarray(sol.x)
         z = self.col_scale * zs
         if self.plain:
-            bad = self._violations(qs, zs, np.asarray(sol.z), A, b, n_zero,
-                                   A.shape[0] - sum(self.soc), Ps, strict)
+            bad = violations(qs, zs, np.asarray(sol.z), A, b, n_zero,
+                             A.shape[0] - sum(self.soc), self.soc, Ps, strict)
             if bad:
                 raise _Unverified(z, ", ".join(bad))
         value = float(q @ z) if self.P is None else float(q @ z + 0.5 * z @ (self.P @ z))
         return ConicSolution("optimal", z, value)
-
-    def _violations(self, q, z, y, A, b, n_zero: int, n_linear: int, P=None,
-                    strict: bool = False) -> list[str]:
-        """Check the answer in the equilibrated data given to Clarabel, where every row and column
-        has comparable weight: primal feasibility row by row (relative to the row's size times the
-        solution's, plus its right-hand side), dual feasibility column by column, and the duality
-        gap. Clarabel's own tolerances are global, so they let a row written at a much smaller
-        scale than the others go unnoticed."""
-        check = tol.SOLVER_CHECK_TOL
-        absA = abs(A)
-        r = b - A @ z  # the slack s, which must lie in K
-        # Each row against its own terms Σⱼ|A_ij z_j| + |b_i|: a row of 1e-8-sized terms must hold to
-        # 1e-14, however large the other rows.
-        # The floor is Clarabel's own accuracy on the equilibrated data, where the solution's
-        # entries have comparable sizes: a row whose terms all vanish holds to rounding, not 0.
-        row_size = np.asarray(absA.max(axis=1).todense()).ravel()
-        # (The equilibrated data have unit size, so a solution at the origin is measured against 1.)
-        z_unit = max(np.abs(z).max(initial=0.0), 1.0)
-        allowed = check * (absA @ np.abs(z) + np.abs(b)) + tol.SOLVER_TOL * row_size * z_unit
-        bad = []
-        lin = slice(n_zero, n_linear)
-        if np.any(np.abs(r[:n_zero]) > allowed[:n_zero]) or np.any(-r[lin] > allowed[lin]):
-            bad.append("primal feasibility")
-        row = n_linear
-        for k in self.soc:
-            if np.linalg.norm(r[row + 1:row + k]) - r[row] > allowed[row:row + k].max():
-                bad.append("primal feasibility (second-order cone)")
-            row += k
-        if P is None and not np.any(q):
-            return bad  # a feasibility program: every feasible point is optimal
-        # Dual: Aᵀy + q = 0 with y ∈ K* (Clarabel keeps y in the self-dual cones K), column by column
-        # against its own terms, with the same kind of floor (multipliers of inactive rows are
-        # ~1e-10, not 0); then the gap qᵀz + bᵀy against the terms of both sums.
-        col_size = np.asarray(absA.max(axis=0).todense()).ravel()
-        dual_allowed = check * (absA.T @ np.abs(y) + np.abs(q)) \
-            + tol.SOLVER_TOL * (col_size * np.abs(y).max(initial=0.0) + np.abs(q).max(initial=0.0))
-        Pz = np.zeros_like(z) if P is None else P @ z
-        dual_allowed = dual_allowed + check * (np.zeros_like(z) if P is None else abs(P) @ np.abs(z))
-        if np.any(np.abs(A.T @ y + q + Pz) > dual_allowed):
-            bad.append("dual feasibility")
-        y_size = np.abs(y).max(initial=0.0)
-        terms = np.abs(q) @ np.abs(z) + np.abs(b) @ np.abs(y) + np.abs(z) @ np.abs(Pz)
-        floor = tol.SOLVER_TOL * (np.abs(q).max(initial=0.0) * z_unit
-                                  + np.abs(b).max(initial=0.0) * y_size)
-        gap = abs(q @ z + z @ Pz + b @ y)
-        if gap > check * terms + floor:
-            bad.append("duality gap")
-        elif strict and gap > check * terms:
-            # The floor is the solver's accuracy on unit-size variables; where the answer's own
-            # terms are far smaller (the objective's variables far below the others: 1e-7 against
-            # 1 in a CZ written in coordinates of 1e-12 before `_defined_sizes`), it passed
-            # answers 7e-5 of the scale off. The first answer must close the gap relative to its
-            # terms; failing that it is solved again rescaled to it (`_solve_verified`), where the
-            # floor is the solver's accuracy and a gap of vanishing terms (support 0) stands.
-            bad.append("duality gap relative to the objective's own terms")
-        return bad
-
-
-def conic_form(problem: cp.Problem, context: str, kind: str) -> tuple[ConicForm, np.ndarray, object,
-                                                                       object]:
-    """Compile ``problem``: (form, q, chain, inverse data)."""
-    data, chain, inverse = problem.get_problem_data(cp.CLARABEL, solver_opts={})
-    if data.get("lower_bounds") is not None or data.get("upper_bounds") is not None:
-        raise ValueError("conic_form handles problems without variable bounds only")
-    return (ConicForm(data["A"], data["b"], data["dims"], context, kind, data.get("P")),
-            np.asarray(data["c"], dtype=float), chain, inverse)
-
-
-def solve_problem(problem: cp.Problem, context: str, kind: str) -> str:
-    """Solve a CVXPY problem through `ConicForm`; on 'optimal' its variables hold the solution.
-
-    Returns
-    -------
-    str
-        'optimal', 'infeasible' or 'unbounded'.
-    """
-    form, q, chain, inverse = conic_form(problem, context, kind)
-    sol = form.solve(q)
-    if sol.status == "optimal":
-        _unpack(problem, sol.z, sol.value, chain, inverse)
-    return sol.status
-
-
-class _Raw:
-    """The fields of a Clarabel solution that CVXPY's inversion reads."""
-
-    def __init__(self, z: np.ndarray, value: float):
-        self.status, self.x, self.z, self.obj_val = "Solved", z, None, value  # no duals needed
-        self.solve_time, self.iterations = 0.0, 0
-
-
-def _unpack(problem: cp.Problem, z: np.ndarray, value: float, chain, inverse) -> None:
-    solution = chain.invert(_Raw(z, value), inverse)
-    problem.unpack(solution)

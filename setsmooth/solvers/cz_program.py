@@ -27,10 +27,10 @@ import scipy.sparse as sp
 
 from .. import tolerances as tol
 from .certify import Operators, certified_bound, correct_multipliers, normal_solver
-from .clarabel_lp import _ALMOST_SOLVED, SolverError, solve_lp
+from .clarabel_lp import SolverError
+from .cz_membership import contains
 from .factor_set import FactorConstraints
 from .instances import cached_instance
-from .warm_simplex import new_batch
 
 __all__ = ["CZProgram", "SupportSolution"]
 
@@ -218,18 +218,15 @@ class CZProgram:
         context = "computing a support function of a constrained zonotope"
         # `_verified` brackets every answer by a certified bound where one exists and escalates the
         # loose ones: a rough answer goes straight to the simplex method then.
-        bracketed = not escalate and (self.factors.free.size == 0
-                                      or self.factors.free_bound() is not None)
+        bracketed = self.factors.free.size == 0 or self.factors.free_bound() is not None
+        purpose = "escalated" if escalate else "bracketed" if bracketed else "plain"
+        batch = object()  # the simplex method's answers depend on this call alone (`warm_simplex`)
         start = time.perf_counter()
-        if not escalate:
-            # The simplex method's answers depend on this call alone (`warm_simplex`); the
-            # escalation of its loose brackets (`_verified`) belongs to the same call and batch.
-            new_batch()
         try:
             for i in range(k):
                 res = self.factors.maximize(GtD[i], context, magnitude=magnitude[i],
-                                            unverified=certified, tight=tight,
-                                            escalate=escalate, bracketed=bracketed)
+                                            unverified=certified, tight=tight, purpose=purpose,
+                                            batch=batch)
                 if res.status == "infeasible":
                     return np.full(k, -np.inf), points, xis, lams
                 if res.status == "unbounded":
@@ -286,89 +283,7 @@ class CZProgram:
                                                    with_charge=True)
         return out, stored, own
 
-    def _free_units(self, pre) -> np.ndarray:
-        """Column units of the presolved program's factors for the membership program: 1 on bounded
-        factors (|η_B| ≤ 1), and β / s_j on free ones, β ≥ ‖ξ_F‖∞ the factor set's rigorous bound
-        (`FactorConstraints.free_bound`, when known or cheap), so every factor of the program is
-        O(1) in the set's own metric.
-
-        The presolve gives a free factor the units of its tightest row. On a thin set (a state
-        pinned to 1e-6 by a measurement of noise 1e-6, the others only by a prior box of size 5)
-        that put the free factors at |η_F| ~ 1e7, and Clarabel returned 'optimal' with distance 0.93
-        (in the set's units) for a member; in units of β it returns the margin itself.
-        """
-        units = np.ones(pre.A.shape[1])
-        if pre.bounded.all():
-            return units
-        beta = self.factors._cheap_free_bound()
-        if beta is not None and np.isfinite(beta) and beta > 0:
-            free = ~pre.bounded
-            units[free] = beta / pre.col_scale[free]
-        return units
-
     def contains(self, p: np.ndarray, margin: float) -> bool:
-        """Whether some ξ with Aξ = b, |ξ| ≤ h has ‖Gξ + c − p‖∞ ≤ margin.
-
-        Decided by the distance program min{t : |Gξ + c − p| ≤ t, t ≥ margin, Aξ = b, |ξ| ≤ h},
-        which is feasible whenever Z is and bounded below, rather than by the feasibility of
-        ``t = margin``: an interior-point method certifies infeasibility less reliably
-        (AlmostPrimalInfeasible) than it solves. The explicit row t ≥ margin matters: without it a
-        member (distance 0) leaves no slack and Clarabel often stops at AlmostSolved. The optimum is
-        compared with ``margin`` up to the solver's accuracy on the program's data (the point, the
-        centre and the set's extent).
-        """
-        context = "deciding membership in a constrained zonotope"
-        pre = self.factors.presolved
-        if pre.empty:
-            return False
-        M, rhs, _ = self.factors._program(pre)  # the presolved factor set: rows Âη = b̂, |η_B| ≤ 1
-        m, nvar = pre.A.shape[0], pre.A.shape[1]
-        units = self._free_units(pre)
-        M = sp.csc_matrix(M @ sp.diags(units))
-        G = self.G[:, pre.cols]
-        scale = pre.col_scale * units
-        G = sp.csc_matrix(G @ sp.diags(scale)) if sp.issparse(G) else G * scale
-        # The program's η is the deviation from the presolve's nominal point (`Presolved.shift`).
-        centre = self.c if pre.shift is None else self.c + np.asarray(
-            self.G[:, pre.cols] @ (pre.shift * pre.col_scale)).reshape(-1)
-        n = G.shape[0]
-        ones = sp.csc_matrix(np.ones((n, 1)))
-        t_row = sp.csc_matrix(([-1.0], ([0], [nvar])), shape=(1, nvar + 1))
-        # Equalities first (Âη = b̂), then the bound rows, ±(Gη + c − p) ≤ t and −t ≤ −margin.
-        rows = sp.vstack([sp.hstack([M, sp.csc_matrix((M.shape[0], 1))]),
-                          sp.hstack([G, -ones]), sp.hstack([-G, -ones]), t_row], format="csc")
-        r = np.concatenate([rhs, p - centre, centre - p, [-margin]])
-        q = np.zeros(nvar + 1)
-        q[-1] = 1.0
-        # With iterative refinement: without it, 2 in 1,500 members of random CZs with free factors
-        # came out as non-members or AlmostSolved (t* a few 1e-9 above the margin).
-        try:
-            sol = solve_lp(q, rows, r, m, rows.shape[0] - m, context, refine=True, kind="membership")
-            status, t = sol.status, float(sol.x[-1])
-        except SolverError:
-            status, t = "stalled", np.nan
-        if status not in ("optimal", "infeasible"):
-            # The simplex method settles what the interior-point method could not.
-            from scipy.optimize import linprog
-
-            bounds = [(None, None)] * (nvar + 1)
-            res = linprog(q, A_ub=rows[m:], b_ub=r[m:], A_eq=rows[:m] if m else None,
-                          b_eq=r[:m] if m else None, bounds=bounds, method="highs")
-            # SciPy reports HiGHS's refusal of the data (entries beyond 1e15: "Model error") with
-            # the infeasible status too; only a verdict of infeasibility means empty.
-            if res.status == 2 and "infeasible" in res.message.lower():
-                status = "infeasible"
-            elif res.status == 0:
-                status, t = "optimal", float(res.x[-1])
-            else:
-                raise SolverError(_ALMOST_SOLVED if status == "inaccurate" else "NumericalError",
-                                  context, kind="membership")
-        if status == "infeasible":
-            return False
-        # The optimum is accurate to the solver's tolerance relative to the data of its rows, which
-        # include the set's extent |G|·1 (η in the unit box): a blown-up set (generators ~1e15, as a
-        # reduced filter with few outputs can produce) cannot resolve distances below that, and
-        # calling a member a non-member there would be a silent wrong answer.
-        extent = abs(G).sum(axis=1).max() if sp.issparse(G) else np.abs(G).sum(axis=1).max(initial=0.0)
-        scale = max(np.abs(p).max(initial=0.0), np.abs(self.c).max(initial=0.0), float(extent))
-        return bool(t <= margin + tol.scaled(tol.SOLVER_TOL, scale))
+        """Whether some ξ with Aξ = b, |ξ| ≤ h has ‖Gξ + c − p‖∞ ≤ margin
+        (`cz_membership.contains`)."""
+        return contains(self, p, margin)

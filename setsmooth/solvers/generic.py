@@ -20,7 +20,8 @@ import scipy.sparse as sp
 from .. import tolerances as tol
 from . import clarabel_lp
 from .clarabel_lp import _SOLVED, SolverError
-from .conic import ConicForm, conic_form, solve_problem
+from .conic import ConicForm
+from .cvxpy_problems import conic_form, solve_problem
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..sets.base import ConvexSet

@@ -39,10 +39,9 @@ import scipy.sparse.linalg
 
 from .. import tolerances as tol
 from ..linalg import independent_rows
+from .free_factors import nominal_free_point
 
-__all__ = ["Presolved", "presolve", "simplex", "simplex_cold", "simplex_inequalities",
-           "simplex_timed_out", "simplex_box_equalities", "project_free", "RUIZ_SWEEPS",
-           "INDEPENDENT_RCOND"]
+__all__ = ["Presolved", "presolve", "RUIZ_SWEEPS", "INDEPENDENT_RCOND"]
 
 #: Equilibration sweeps with free factors (each scales the free columns, then the rows holding only
 #: free factors, to unit ∞-norm); without free factors one row normalization is exact.
@@ -58,78 +57,6 @@ INDEPENDENT_RCOND = 1e-6
 #: or QR of the rows: 3e7 entries, 240 MB). Beyond it the fallback goes to the simplex method, whose
 #: own presolve handles dependent rows; the recursion smoother's CZs reach it at T ≈ 40.
 DEPENDENT_DENSE_MAX = 30_000_000
-
-#: HiGHS's feasibility tolerances for the simplex fallback, on the presolved program (unit rows,
-#: |η| ≤ 1), tried in turn (None: HiGHS's defaults, 1e-7). The defaults alone left duality gaps of
-#: ~1e-7 of the objective's scale, which a certified bound built on the multipliers keeps: 1.1e-6 of
-#: w + σ on the recursion smoother's hulls of an unstable system at noise 1e-6 (reliability case
-#: 001). But on the recursion smoother's degenerate, ill-conditioned sets (σ_min(Â) ≈ 6e-8) the
-#: tight tolerance alone cycles: 100,000 – 530,000 iterations, 3 – 22 s, often ending in
-#: 'numerical difficulties', where the defaults need ~250 iterations. Each rung is therefore
-#: capped (`_rung_iterations`); what it does not settle the next, looser one solves. Every answer
-#: is checked independently by the caller and certified bounds hold for any multipliers, so a
-#: looser rung costs tightness, never soundness.
-SIMPLEX_TOLERANCES = (1e-10, 1e-9, None)
-
-#: The ladder of the programs whose optimal value decides something (the elastic phase-one program:
-#: empty iff its optimum exceeds ``EMPTINESS_TOL`` = 1e-8; the recession program: unbounded iff its
-#: gain exceeds ``REDUCED_COST_TOL``). A feasible point of them is not a proof, so they stop at
-#: 1e-9, an order below those thresholds, and never use HiGHS's defaults.
-DECISION_TOLERANCES = (1e-10, 1e-9)
-
-
-def _rung_iterations(size: int, last: bool) -> int:
-    """Iteration cap of a rung for a program of ``size`` = rows + columns: size + 200 for the tight
-    rungs (their successful solves need about size/2: reliability case 000 at T = 20, 196 fallback
-    programs), 20·size + 1000 for the last (a guard against cycling, never reached there)."""
-    return 20 * size + 1000 if last else size + 200
-
-
-#: A rung's time limit is ``RUNG_SECONDS_FLOOR`` + ``RUNG_SECONDS_PER_ITERATION`` × the tight rungs'
-#: iteration cap (`rung_seconds`; the last rung's cap, 20× larger, is a guard against cycling
-#: that legitimate solves never reach). It guards against HiGHS's dual simplex method looping in
-#: its primal clean-up without counting iterations, where no cap stops it: on the recursion
-#: smoother's set k = 17 of reliability case 184 at noise 1e3 (1,864 rows, 2,454 factors, 103 k
-#: nonzeros) the cold dual rung reached its 2,025th iteration in 0.2 s and then ran for hours at
-#: any cap. The densest programs seen take 1.5 ms per iteration (case 039, k = 20: 199 k
-#: nonzeros), so a rung that settles stays far below the limit; one that reaches it has failed.
-RUNG_SECONDS_FLOOR = 10.0
-RUNG_SECONDS_PER_ITERATION = 5e-3
-
-
-def rung_seconds(size: int) -> float:
-    """The time limit of every simplex rung on a program of ``size`` = rows + columns."""
-    return RUNG_SECONDS_FLOOR + RUNG_SECONDS_PER_ITERATION * _rung_iterations(size, False)
-
-
-def _rung_caps(size: int, rungs: int) -> list[int]:
-    """The iteration caps of a ladder of ``rungs`` rungs (`_rung_iterations`)."""
-    return [_rung_iterations(size, rung == rungs - 1) for rung in range(rungs)]
-
-
-def _refused(res) -> bool:
-    """SciPy's status 2 also carries HiGHS's refusal of the data, told apart by its message."""
-    return res.status == 2 and "infeasible" not in res.message.lower()
-
-
-def _highs_ladder(q: np.ndarray, size: int, tolerances: tuple = SIMPLEX_TOLERANCES, **program):
-    """``scipy.optimize.linprog(q, method='highs', **program)`` through ``tolerances``: the first
-    rung's result that is not an iteration or time limit (status 1; `rung_seconds`) or a
-    numerical failure (status 4, or status 2 without 'infeasible' in the message: HiGHS refusing
-    the data). An infeasible or unbounded verdict ends the ladder: it is the caller's to judge."""
-    from scipy.optimize import linprog
-
-    res = None
-    for tolerance, cap in zip(tolerances, _rung_caps(size, len(tolerances))):
-        options = {"maxiter": cap, "time_limit": rung_seconds(size)}
-        if tolerance is not None:
-            options.update(primal_feasibility_tolerance=tolerance,
-                           dual_feasibility_tolerance=tolerance)
-        res = linprog(q, method="highs", options=options, **program)
-        if res.status not in (1, 4) and not _refused(res):
-            return res
-    return res
-
 
 @dataclass(frozen=True)
 class Presolved:
@@ -244,11 +171,6 @@ class Presolved:
         return lam
 
 
-#: The free factors' nominal point (`nominal_free_point`) is a dense least-squares solve up to this
-#: many entries of Â_F, and LSQR (a fixed iteration limit: deterministic) beyond.
-NOMINAL_DENSE_MAX = 250_000
-
-
 def presolve(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray, *, dependent: bool) -> Presolved:
     """Presolve {ξ : Aξ = b, |ξ| ≤ h} (module docstring).
 
@@ -269,60 +191,82 @@ def presolve(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray, *, dependent: bool)
     cols = np.flatnonzero(h > 0)
     hk = h[cols]
     bounded = np.isfinite(hk)
-    col_scale = np.where(bounded, hk, 1.0)
     # Scaled in place on the CSC arrays: scipy's sparse products cost more than Clarabel's whole
     # solve of a small CZ.
     M = sp.csc_matrix(A[:, cols]) if cols.size < ng else A.copy()
     M.sum_duplicates()
     col_of = np.repeat(np.arange(M.shape[1]), np.diff(M.indptr))
+    col_scale = np.where(bounded, hk, 1.0)
     M.data = M.data * col_scale[col_of]
-    row_scale = np.ones(nc)
+    row_scale, col_scale = _equilibrate(M, col_of, bounded, col_scale)
+    bs = b * row_scale
+    rows, empty, dependent = _kept_rows(M, b, bs, dependent)
+    Mr = sp.csc_matrix(M[rows]) if rows.size < nc else M
+    b_kept = bs[rows]
+    b_scale = 1.0 + float(np.abs(b_kept).max(initial=0.0))
+    shift = nominal_free_point(Mr, b_kept, bounded) if (~bounded).any() and not empty else None
+    if shift is not None:
+        b_kept = b_kept - Mr @ shift
+    return Presolved(Mr, b_kept, rows, cols, row_scale[rows], col_scale, bounded, empty, dependent,
+                     shift, b_scale)
+
+
+def _equilibrate(M: sp.csc_matrix, col_of: np.ndarray, bounded: np.ndarray,
+                 col_scale: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Scale the rows and free columns of M in place (module docstring): (row_scale, col_scale).
+
+    Rows are measured by their bounded entries, which are in the units of the factors' bounds
+    (|η| ≤ 1): a row reads in those units whatever the scale of the free factors it also holds.
+    Free columns are then scaled to unit ∞-norm, which puts the free factors' values in the same
+    units (a trajectory set of noise scale 1e-6 has states of size 1e-6: unscaled they would sit
+    below the solver's absolute tolerances). Rows without bounded entries are measured by all of
+    them, which the free-column scaling changes: hence a few alternating sweeps."""
     free = ~bounded
-    # Rows are measured by their bounded entries, which are in the units of the factors' bounds
-    # (|η| ≤ 1): a row reads in those units whatever the scale of the free factors it also holds.
-    # Free columns are then scaled to unit ∞-norm, which puts the free factors' values in the same
-    # units (a trajectory set of noise scale 1e-6 has states of size 1e-6: unscaled they would sit
-    # below the solver's absolute tolerances). Rows without bounded entries are measured by all of
-    # them, which the free-column scaling changes: hence a few alternating sweeps.
     has_free = bool(free.any())
     bounded_norm = _row_abs_max(M, bounded[col_of]) if has_free else _row_abs_max(M)
-    r = _inverse(bounded_norm)
-    M.data *= r[M.indices]
-    row_scale *= r
+    row_scale = _inverse(bounded_norm)
+    M.data *= row_scale[M.indices]
+    if not has_free:
+        return row_scale, col_scale
     only_free = bounded_norm == 0
-    if has_free:
-        # A free factor seen by a row with bounded entries takes its units from those rows: scaled
-        # to unit ∞-norm over them, its values are of the bounded factors' size (a state of the
-        # trajectory set at noise scale 1e3 becomes O(1), not 1e3: measured by all rows, the
-        # free-only rows (a dynamics row without noise) would pin it at its raw scale and leave
-        # the interior-point method a dual residual of ~1e-7 on it, and a wrong support value).
-        anchored_entry = ~only_free[M.indices]
-        anchor = np.zeros(M.shape[1])
-        np.maximum.at(anchor, col_of[anchored_entry], np.abs(M.data[anchored_entry]))
-        anchored = free & (anchor > 0)
-        s = np.where(anchored, _inverse(anchor), 1.0)
+    # A free factor seen by a row with bounded entries takes its units from those rows: scaled to
+    # unit ∞-norm over them, its values are of the bounded factors' size (a state of the trajectory
+    # set at noise scale 1e3 becomes O(1), not 1e3: measured by all rows, the free-only rows (a
+    # dynamics row without noise) would pin it at its raw scale and leave the interior-point
+    # method a dual residual of ~1e-7 on it, and a wrong support value).
+    anchored_entry = ~only_free[M.indices]
+    anchor = np.zeros(M.shape[1])
+    np.maximum.at(anchor, col_of[anchored_entry], np.abs(M.data[anchored_entry]))
+    anchored = free & (anchor > 0)
+    s = np.where(anchored, _inverse(anchor), 1.0)
+    M.data *= s[col_of]
+    col_scale = col_scale * s
+    floating = free & ~anchored  # free factors seen by free-only rows only
+    for _ in range(RUIZ_SWEEPS):
+        if not floating.any():
+            break
+        s = _neighbour_units(M, col_of, floating)
+        floating &= ~(s > 0)
+        s = np.where(s > 0, s, 1.0)
         M.data *= s[col_of]
         col_scale = col_scale * s
-        floating = free & ~anchored  # free factors seen by free-only rows only
-        for _ in range(RUIZ_SWEEPS):
-            if not floating.any():
-                break
-            s = _neighbour_units(M, col_of, floating)
-            floating &= ~(s > 0)
-            s = np.where(s > 0, s, 1.0)
-            M.data *= s[col_of]
-            col_scale = col_scale * s
-        for sweep in range(RUIZ_SWEEPS + 1 if only_free.any() else 0):
-            r = np.where(only_free, _inverse(_row_abs_max(M)), 1.0)
-            M.data *= r[M.indices]
-            row_scale *= r
-            if sweep == RUIZ_SWEEPS or not floating.any():
-                break  # rows last: every kept row has unit ∞-norm
-            s = np.where(floating, _inverse(_col_abs_max(M)), 1.0)
-            M.data *= s[col_of]
-            col_scale = col_scale * s
+    for sweep in range(RUIZ_SWEEPS + 1 if only_free.any() else 0):
+        r = np.where(only_free, _inverse(_row_abs_max(M)), 1.0)
+        M.data *= r[M.indices]
+        row_scale *= r
+        if sweep == RUIZ_SWEEPS or not floating.any():
+            break  # rows last: every kept row has unit ∞-norm
+        s = np.where(floating, _inverse(_col_abs_max(M)), 1.0)
+        M.data *= s[col_of]
+        col_scale = col_scale * s
+    return row_scale, col_scale
+
+
+def _kept_rows(M: sp.csc_matrix, b: np.ndarray, bs: np.ndarray, dependent: bool
+               ) -> tuple[np.ndarray, bool, bool]:
+    """(the rows kept, whether the set is empty, whether dependent rows were looked for): zero rows
+    dropped, and linearly dependent ones when ``dependent`` and the dense QR fits in memory."""
     nonzero = _row_abs_max(M) > 0
-    bs = b * row_scale
     # A zero row reads 0 = b_i; b_i left over by cancellation is rounding, judged against the other
     # rows' normalized right-hand sides, as `independent_rows` judges one.
     scale_b = 1.0 + np.abs(bs[nonzero]).max(initial=0.0)
@@ -331,46 +275,10 @@ def presolve(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray, *, dependent: bool)
     if dependent and rows.size * M.shape[1] > DEPENDENT_DENSE_MAX:
         dependent = False  # not looked for: memory stays bounded (see DEPENDENT_DENSE_MAX)
     if dependent and rows.size > 1 and not empty and not _well_conditioned(M, rows):
-        basis = independent_rows(M[rows] if rows.size < nc else M, bs[rows])
+        basis = independent_rows(M[rows] if rows.size < M.shape[0] else M, bs[rows])
         empty = not basis.consistent
         rows = rows[basis.keep]
-    Mr = sp.csc_matrix(M[rows]) if rows.size < nc else M
-    b_kept = bs[rows]
-    b_scale = 1.0 + float(np.abs(b_kept).max(initial=0.0))
-    shift = nominal_free_point(Mr, b_kept, bounded) if has_free and not empty else None
-    if shift is not None:
-        b_kept = b_kept - Mr @ shift
-    return Presolved(Mr, b_kept, rows, cols, row_scale[rows], col_scale, bounded, empty, dependent,
-                     shift, b_scale)
-
-
-def nominal_free_point(M: sp.csc_matrix, b: np.ndarray, bounded: np.ndarray) -> np.ndarray | None:
-    """η⁰: the free factors' least-squares solution of Â_F η_F = b̂ (bounded factors at 0), the
-    point around which the presolved program is posed; None when it does not shrink b̂.
-
-    A free factor that a thin measurement pins (noise 1e-6 beside states of size 5) makes the
-    equilibrated right-hand sides ~5e7 while the bounded factors move them by O(1): an
-    interior-point method then resolves the rows only to ~1e-8 of 5e7, and its elastic phase-one
-    program found t* = 2.4 on a set that holds the true state (a filter posterior called empty at
-    k = 2 and non-empty at k = 3). Around η⁰ the right-hand sides are what the bounded factors
-    must produce, O(1) on a non-empty set, and the same program gives t* = 9e-11. The shift is a
-    change of coordinates: certificates are computed on the original data (`certify`).
-    """
-    free = np.flatnonzero(~bounded)
-    if free.size == 0 or M.shape[0] == 0:
-        return None
-    AF = M[:, free]
-    if AF.shape[0] * AF.shape[1] <= NOMINAL_DENSE_MAX:
-        x = scipy.linalg.lstsq(AF.toarray(), b, lapack_driver="gelsy")[0]  # 2x gelsd's speed
-    else:
-        x = scipy.sparse.linalg.lsqr(AF, b, atol=1e-14, btol=1e-14, iter_lim=4 * AF.shape[1])[0]
-    if not np.all(np.isfinite(x)):
-        return None
-    shift = np.zeros(M.shape[1])
-    shift[free] = x
-    if np.abs(b - M @ shift).max(initial=0.0) >= np.abs(b).max(initial=0.0):
-        return None
-    return shift
+    return rows, empty, dependent
 
 
 def _neighbour_units(M: sp.csc_matrix, col_of: np.ndarray, floating: np.ndarray) -> np.ndarray:
@@ -448,112 +356,3 @@ def _col_abs_max(M: sp.csc_matrix) -> np.ndarray:
     if M.nnz:
         out[nonempty] = np.maximum.reduceat(np.abs(M.data), M.indptr[:-1][nonempty])
     return out
-
-
-#: The key of a program's warm model (`warm_simplex.WarmSimplex`) in the per-thread instance cache.
-WARM_MODEL_KEY = "warm simplex"
-
-
-def simplex(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
-    """min qᵀη over the presolved program by HiGHS's simplex method: (status name, η, λ̂ in
-    Clarabel's sign convention q + Âᵀλ̂ = 0 on the free factors).
-
-    One HiGHS model per presolved program and thread, warm-started from the last objective's basis
-    (`warm_simplex.WarmSimplex`), through the ladder ``SIMPLEX_TOLERANCES``: the primal method
-    from that basis, and the dual method from the batch's start when the primal method's answer
-    fails `Presolved.checked_gap` at ``ACCURATE_GAP_TOL`` (on ill-conditioned programs the primal
-    method's duals can be loose: gaps of 2.7e-7 to 8e-7, or failing the check, on 4 of 8 objectives
-    of the test suite's cycling program, where the dual method's are below 3e-9). `simplex_cold`
-    is the same ladder by SciPy's ``linprog`` from scratch, the reference it is tested against."""
-    from .instances import cached_instance
-    from .warm_simplex import WarmSimplex
-
-    model = cached_instance(pre, WARM_MODEL_KEY, lambda: WarmSimplex(pre.A, pre.b, pre.bounded))
-    caps = _rung_caps(sum(pre.A.shape), len(SIMPLEX_TOLERANCES))
-    answer = model.minimize(q, SIMPLEX_TOLERANCES, caps)
-    gap = _gap_or_inf(pre, q, answer)
-    if gap > tol.ACCURATE_GAP_TOL and model.answered_by_primal:
-        again = model.minimize(q, SIMPLEX_TOLERANCES, caps, dual=True)
-        if _gap_or_inf(pre, q, again) < gap or np.isinf(gap):
-            answer = again
-    return answer
-
-
-def simplex_timed_out(pre: Presolved) -> bool:
-    """Whether `simplex` ran out of time (`rung_seconds`) on ``pre`` in this thread's current batch
-    of queries (`warm_simplex.new_batch`); False when it has not been asked in this thread."""
-    from .instances import kept_instance
-
-    model = kept_instance(pre, WARM_MODEL_KEY)
-    return model is not None and model.timed_out_in_batch()
-
-
-def _gap_or_inf(pre: Presolved, q: np.ndarray, answer: tuple) -> float:
-    """`Presolved.checked_gap` of a simplex answer; inf when it is not an optimum or fails."""
-    name, eta, z = answer
-    gap = pre.checked_gap(q, eta, z) if name == "AlmostSolved" else None
-    return np.inf if gap is None else gap
-
-
-def simplex_cold(pre: Presolved, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
-    """`simplex` by SciPy's ``linprog``, every objective from scratch (the reference)."""
-    m, p = pre.A.shape
-    bounds = np.where(pre.bounded[:, None], [[-1.0, 1.0]], [[-np.inf, np.inf]])
-    res = _highs_ladder(q, m + p, A_eq=pre.A if m else None, b_eq=pre.b if m else None,
-                        bounds=bounds)
-    names = {0: "AlmostSolved", 1: "MaxIterations", 2: "PrimalInfeasible", 3: "DualInfeasible"}
-    name = "NumericalError" if _refused(res) else names.get(res.status, "NumericalError")
-    if res.status != 0:
-        return name, np.full(p, np.nan), np.full(m, np.nan)
-    # HiGHS's marginals are ∂(min)/∂b_eq, i.e. q = Âᵀy + (bound duals): λ̂ = −y.
-    return name, np.asarray(res.x), -np.asarray(res.eqlin.marginals)
-
-
-def simplex_inequalities(q: np.ndarray, rows: sp.csc_matrix, r: np.ndarray
-                         ) -> tuple[str, np.ndarray, np.ndarray]:
-    """min qᵀx subject to rows·x ≤ r (x free) by HiGHS (SciPy), in Clarabel's convention for the
-    multipliers (z ≥ 0, q + rowsᵀz = 0): ('optimal', x, z), or (HiGHS's status, NaNs, NaNs). The
-    fallback of the always-feasible programs (phase one, the relaxed support program)."""
-    n, k = rows.shape[1], rows.shape[0]
-    res = _highs_ladder(q, n + k, DECISION_TOLERANCES, A_ub=rows, b_ub=r,
-                        bounds=[(None, None)] * n)
-    if res.status != 0:
-        return f"status {res.status}", np.full(n, np.nan), np.full(k, np.nan)
-    # HiGHS's marginals are ∂(min)/∂b_ub ≤ 0: q = −rowsᵀy, so z = −y.
-    return "optimal", np.asarray(res.x), -np.asarray(res.ineqlin.marginals)
-
-
-def simplex_box_equalities(q: np.ndarray, A: sp.csc_matrix) -> tuple[str, np.ndarray]:
-    """min qᵀη subject to Aη = 0, |η| ≤ 1 by HiGHS (SciPy): ('optimal', η) or (its status, NaNs).
-    The fallback of the recession program (feasible at η = 0, bounded)."""
-    m, n = A.shape
-    res = _highs_ladder(q, m + n, DECISION_TOLERANCES, A_eq=A if m else None,
-                        b_eq=np.zeros(m) if m else None, bounds=(-1.0, 1.0))
-    if res.status != 0:
-        return f"status {res.status}", np.full(n, np.nan)
-    return "optimal", np.asarray(res.x)
-
-
-def project_free(pre: Presolved, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(q + Âᵀλ₀ with its free entries set to zero, λ₀), λ₀ the least-squares solution of
-    Â_Fᵀλ₀ = −q_F: the same objective on {Âη = b̂} up to the constant and the residual on the free
-    factors, which the recession program found to be within tolerance.
-
-    λ₀ is the least-norm solution through the normal equations of Â_F (one sparse LU per presolved
-    program and thread, refined), or by lsqr when Â_F is rank deficient: `certify.correct_multipliers`
-    from λ = 0. (lsqr on every direction cost 25 ms each on a trajectory set of n = 5, T = 27,
-    reliability case 150: 95 % of its smoother's time.)
-    """
-    from .certify import correct_multipliers, normal_solver
-    from .instances import cached_instance
-
-    free = ~pre.bounded
-    AF = pre.free_columns
-    solve_normal = cached_instance(pre, "normal equations of the free factors",
-                                   lambda: normal_solver(AF))
-    lam0 = correct_multipliers(AF, -q[free][None, :], np.zeros((1, pre.A.shape[0])),
-                               solve_normal, pre._free_rows[1])[0]
-    shifted = q + pre.At @ lam0
-    shifted[free] = 0.0
-    return shifted, lam0
-

@@ -210,7 +210,7 @@ class _FilterProgram:
         self.d.value = full
 
     def _solve(self, j: int, d: np.ndarray, context: str) -> str:
-        from ..solvers.conic import solve_problem
+        from ..solvers.cvxpy_problems import solve_problem
 
         self._set(j, d)
         return solve_problem(self.problem, context, "support")
@@ -218,7 +218,7 @@ class _FilterProgram:
     def feasible(self, j: int) -> bool:
         """Whether the posterior at index j is non-empty (the elastic emptiness program of
         `solvers.conic`)."""
-        from ..solvers.conic import conic_form
+        from ..solvers.cvxpy_problems import conic_form
 
         self._set(j, np.zeros(self.n))
         form = conic_form(self.problem, "deciding emptiness of a filtered range", "emptiness")[0]

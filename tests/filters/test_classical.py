@@ -138,7 +138,7 @@ def test_consistent_thin_data_are_never_called_empty():
     presolved rows' right-hand sides were ~5e7 where the bounded factors move them by O(1). The
     elastic phase-one program then found t* = 2.4 and called the k = 2 posterior empty, although it
     holds the true state (and k = 3 was non-empty). Posed around the free factors' nominal point
-    (`setsmooth.solvers.presolve.nominal_free_point`) every posterior is non-empty and holds the
+    (`setsmooth.solvers.free_factors.nominal_free_point`) every posterior is non-empty and holds the
     truth, in the default form and the recursion form alike."""
     import control
 

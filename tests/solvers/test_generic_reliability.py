@@ -159,8 +159,8 @@ def test_the_verification_refuses_an_answer_below_its_own_terms_without_the_equi
     # is accurate only to the solver's absolute floor (errors up to 7e-5 of the scale); the gap
     # measured against the answer's own terms sends it to the retry rescaled to it. That check holds
     # the gap to SOLVER_CHECK_TOL of the terms, a few times the scale: hence 10·SOLVER_CHECK_TOL.
-    from setsmooth.solvers.conic import ConicForm
+    from setsmooth.solvers import conic_scaling
 
-    monkeypatch.setattr(ConicForm, "_defined_sizes", lambda self, c: c)
+    monkeypatch.setattr(conic_scaling, "defined_sizes", lambda A, b, n_zero, c: c)
     data, Z, s = _coordinates_at_1e12(seed)
     _answers_exactly_or_raises(data, Z, s, np.random.default_rng(seed), rel=10 * tol.SOLVER_CHECK_TOL)

@@ -1,4 +1,4 @@
-"""The simplex fallback's tolerance ladder (`presolve.SIMPLEX_TOLERANCES`), cold and warm-started.
+"""The simplex backends' tolerance ladder (`highs.SIMPLEX_TOLERANCES`), cold and warm-started.
 
 ``data/cycling_program.npz`` is one presolved support program of the recursion smoother (reliability
 case 000 at T = 20: 158 rows, 293 factors, σ_min(Â) ≈ 6e-8, degenerate). HiGHS at feasibility
@@ -14,10 +14,17 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import linprog
 
-from setsmooth.solvers import presolve as presolve_module
-from setsmooth.solvers.presolve import Presolved, simplex, simplex_cold
+from setsmooth.solvers import highs
+from setsmooth.solvers import warm_simplex as warm_module
+from setsmooth.solvers.highs import interior_point, simplex_cold
+from setsmooth.solvers.presolve import Presolved
 
 DATA = Path(__file__).parent / "data" / "cycling_program.npz"
+
+
+def simplex(pre: Presolved, q: np.ndarray, batch: object = None):
+    """The warm-started simplex method, every call in one batch unless told otherwise."""
+    return warm_module.simplex(pre, q, batch)
 
 
 def _cycling_program() -> tuple[Presolved, np.ndarray]:
@@ -43,48 +50,55 @@ def test_a_program_the_tight_tolerance_cycles_on_is_settled_by_a_looser_rung():
 def test_each_rung_is_capped_and_the_first_settled_answer_is_kept(monkeypatch):
     pre, q = _cycling_program()
     seen = []
-    real = linprog
+    real = highs.set_rung
 
-    def recorded(*args, **kwargs):
-        res = real(*args, **kwargs)
-        seen.append((kwargs["options"].get("primal_feasibility_tolerance"),
-                     kwargs["options"]["maxiter"], res.status, res.nit))
-        return res
+    def recorded(h, tolerance, cap, strategy=1):
+        seen.append((tolerance, cap))
+        real(h, tolerance, cap, strategy)
 
-    monkeypatch.setattr("scipy.optimize.linprog", recorded)
-    simplex_cold(pre, q)
+    monkeypatch.setattr(highs, "set_rung", recorded)
+    name, eta, lam = simplex_cold(pre, q)
     size = sum(pre.A.shape)
-    assert seen[0][:2] == (1e-10, size + 200)
-    assert all(status in (1, 4) for _, _, status, _ in seen[:-1])  # only failures move down
-    assert seen[-1][2] == 0
-    assert all(nit <= cap for _, cap, _, nit in seen)
-    assert len(seen) <= len(presolve_module.SIMPLEX_TOLERANCES)
+    assert seen[0] == (1e-10, size + 200)
+    assert len(seen) <= len(highs.SIMPLEX_TOLERANCES)
+    assert name == "AlmostSolved" and pre.checked_gap(q, eta, lam) is not None
 
 
 def test_programs_whose_value_decides_never_go_below_1e_9(monkeypatch):
     """Phase one (empty iff its optimum exceeds 1e-8) and the recession program: a rung at HiGHS's
     defaults (1e-7) could call a non-empty set empty, so their ladder stops at 1e-9."""
-    from types import SimpleNamespace
-
-    from setsmooth.solvers.presolve import simplex_box_equalities, simplex_inequalities
-
     seen = []
+    real = highs.set_rung
 
-    def failing(q, **kwargs):
-        seen.append(kwargs["options"].get("primal_feasibility_tolerance"))
-        return SimpleNamespace(status=4, message="numerical difficulties", nit=0)
+    def recorded(h, tolerance, cap, strategy=1):
+        seen.append(tolerance)
+        real(h, tolerance, cap, strategy)
 
-    monkeypatch.setattr("scipy.optimize.linprog", failing)
+    monkeypatch.setattr(highs, "set_rung", recorded)
+    monkeypatch.setattr(highs, "settled_point", lambda h: None)  # every rung fails
+    monkeypatch.setattr(highs, "verdict", lambda h: "MaxIterations")
     rows = sp.csc_matrix(np.vstack([np.eye(2), -np.eye(2)]))
-    assert simplex_inequalities(np.ones(2), rows, np.ones(4))[0] == "status 4"
+    assert highs.simplex_inequalities(np.ones(2), rows, np.ones(4))[0] != "optimal"
     assert seen == [1e-10, 1e-9]
     seen.clear()
-    assert simplex_box_equalities(np.ones(2), sp.csc_matrix(np.ones((1, 2))))[0] == "status 4"
+    A = sp.csc_matrix(np.ones((1, 2)))
+    assert highs.simplex_box_equalities(np.ones(2), A)[0] != "optimal"
     assert seen == [1e-10, 1e-9]
     seen.clear()
     pre, q = _cycling_program()
-    assert simplex_cold(pre, q)[0] == "NumericalError"
+    assert simplex_cold(pre, q)[0] == "MaxIterations"
     assert seen == [1e-10, 1e-9, None]
+
+
+def test_no_solve_of_the_solvers_package_has_a_time_limit():
+    """The same input gives the same output on any machine under any load: HiGHS's runs are capped
+    by iteration counts only, and no answer reads a clock."""
+    package = Path(__file__).resolve().parents[2] / "setsmooth" / "solvers"
+    for path in package.glob("*.py"):
+        text = path.read_text()
+        assert "time_limit" not in text, path.name
+        if path.name != "instances.py":  # the per-thread solver instances
+            assert "threading.local" not in text, path.name
 
 
 def test_the_warm_started_simplex_agrees_with_cold_solves_over_many_objectives():
@@ -108,7 +122,7 @@ def test_the_warm_started_simplex_agrees_with_cold_solves_over_many_objectives()
         assert gap is not None and gap <= tol.ACCURATE_GAP_TOL
         if pre.checked_gap(q, cold[1], cold[2]) is not None:
             assert abs(q @ warm[1] - q @ cold[1]) <= 1e-6 * (1 + abs(q @ cold[1]))
-        model = cached_instance(pre, presolve_module.WARM_MODEL_KEY, lambda: None)
+        model = cached_instance(pre, warm_module.WARM_MODEL_KEY, lambda: None)
         assert model._h.getInfo().simplex_iteration_count <= 20 * size + 1000
 
 
@@ -121,7 +135,7 @@ def test_the_first_highs_model_of_a_process_prints_nothing():
             "from setsmooth.solvers.warm_simplex import WarmSimplex\n"
             "m = WarmSimplex(sp.csc_matrix(np.ones((1, 2))), np.array([0.5]),\n"
             "                np.array([True, True]))\n"
-            "print(m.minimize(np.array([1.0, -1.0]), (1e-10,), (100,))[0])\n")
+            "print(m.minimize(np.array([1.0, -1.0]), None)[0])\n")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          cwd=Path(__file__).resolve().parents[2])
     assert out.stdout == "AlmostSolved\n", out.stdout
@@ -159,19 +173,17 @@ def test_the_warm_models_are_per_thread_and_the_program_still_pickles():
 
 
 def test_a_batch_starts_from_the_programs_feasible_basis_whatever_came_before():
-    """Each `new_batch` starts every model from its program's feasible basis (the zero objective's
-    optimum), so a batch's answers depend on the batch alone, bit for bit, not on the queries
-    solved before it; and each objective settles from there, where a cold start on 2 of these 8
-    fails at every rung."""
-    from setsmooth.solvers.warm_simplex import new_batch
-
+    """Each new batch token starts the model from its program's feasible basis (the zero
+    objective's optimum), so a batch's answers depend on the batch alone, bit for bit, not on the
+    queries solved before it; and each objective settles from there, where a cold start on 2 of
+    these 8 fails at every rung."""
     pre, q0 = _cycling_program()
     rng = np.random.default_rng(9)
     objectives = [rng.standard_normal(q0.size) for _ in range(8)]
 
     def batch(qs):
-        new_batch()
-        return [simplex(pre, q) for q in qs]
+        token = object()
+        return [simplex(pre, q, token) for q in qs]
 
     first = batch(objectives[:3])
     batch([q0, -objectives[1], objectives[5]])  # other queries on the same model in between
@@ -192,7 +204,7 @@ def test_a_loose_primal_answer_is_asked_again_of_the_dual_method_from_the_batch_
     asks the dual method from the batch's start and keeps the better answer. Every answer then
     passes the check at ``ACCURATE_GAP_TOL``."""
     from setsmooth import tolerances as tol
-    from setsmooth.solvers.warm_simplex import WarmSimplex, new_batch
+    from setsmooth.solvers.warm_simplex import WarmSimplex
 
     pre, q0 = _cycling_program()
     rng = np.random.default_rng(9)
@@ -200,17 +212,16 @@ def test_a_loose_primal_answer_is_asked_again_of_the_dual_method_from_the_batch_
     calls = []
     real = WarmSimplex.minimize
 
-    def recorded(self, q, tolerances, caps, dual=False):
-        answer = real(self, q, tolerances, caps, dual)
+    def recorded(self, q, batch, dual=False):
+        answer = real(self, q, batch, dual)
         calls.append((dual, pre.checked_gap(q, answer[1], answer[2])))
         return answer
 
     monkeypatch.setattr(WarmSimplex, "minimize", recorded)
     asked_again = 0
     for q in objectives:
-        new_batch()
         calls.clear()
-        name, eta, lam = simplex(pre, q)
+        name, eta, lam = simplex(pre, q, object())
         first_gap = calls[0][1]
         assert calls[0][0] is False
         if first_gap is None or first_gap > tol.ACCURATE_GAP_TOL:
@@ -225,11 +236,10 @@ def test_a_loose_primal_answer_is_asked_again_of_the_dual_method_from_the_batch_
 
 
 def test_the_interior_point_fallback_reaches_the_simplex_methods_optimum():
-    """`interior_point.interior_point` (HiGHS's interior-point method without crossover, the last
+    """`highs.interior_point` (HiGHS's interior-point method without crossover, the last
     fallback before the relaxed program) answers a random feasible program at the cold simplex
     method's optimum, with multipliers that pass the caller's independent check."""
     from setsmooth import tolerances as tol
-    from setsmooth.solvers.interior_point import interior_point
 
     rng = np.random.default_rng(3)
     m, p = 20, 45
@@ -257,7 +267,6 @@ def test_the_interior_point_fallback_settles_where_every_simplex_basis_is_singul
     rank-deficient basis from scratch, and the interior-point method with crossover fails in the
     crossover. Without crossover it answers, and the caller's check accepts its gap."""
     from setsmooth import tolerances as tol
-    from setsmooth.solvers.interior_point import interior_point
 
     z = np.load(Path(__file__).parent / "data" / "singular_bases_program.npz")
     A = sp.csc_matrix((z["data"], z["indices"], z["indptr"]), shape=tuple(z["shape"]))
@@ -273,134 +282,3 @@ def test_the_interior_point_fallback_settles_where_every_simplex_basis_is_singul
     assert name == "AlmostSolved"
     gap = pre.checked_gap(q, eta, lam)
     assert gap is not None and gap <= tol.ACCURATE_GAP_TOL
-
-
-def test_a_rungs_time_limit_counts_from_its_own_start(monkeypatch):
-    """HiGHS's ``time_limit`` is on a model's run time summed over all its solves; the kept model
-    (`WarmSimplex`) solves many objectives, so each rung's limit (`presolve.rung_seconds`) is set
-    from the current run time. A model whose solves sum to several limits still answers every
-    objective (set from zero, every rung after the first 0.15 s would stop at once)."""
-    from setsmooth.solvers import warm_simplex
-    from setsmooth.solvers.instances import cached_instance
-    from setsmooth.solvers.warm_simplex import new_batch
-
-    monkeypatch.setattr(warm_simplex, "rung_seconds", lambda size: 0.15)
-    pre, q0 = _cycling_program()
-    rng = np.random.default_rng(11)
-    for _ in range(120):
-        new_batch()  # each objective from the program's feasible basis: ~5 ms of HiGHS's time
-        q = rng.standard_normal(q0.size)
-        assert simplex(pre, q)[0] == "AlmostSolved"  # a rung that stopped at once: 'MaxIterations'
-    model = cached_instance(pre, presolve_module.WARM_MODEL_KEY, lambda: None)
-    assert model._h.getRunTime() > 0.3  # the premise: the solves summed to over twice the limit
-
-
-def test_after_a_rung_reaches_its_time_limit_the_dual_method_does_not_perturb_the_costs(
-        monkeypatch):
-    """HiGHS's dual method can loop in the primal clean-up after it removes its cost perturbation,
-    without counting iterations (reliability case 184 at noise 1e3, k = 17: hours at any cap).
-    A rung that reaches its time limit has failed like a capped one, and the later rungs of its
-    ladder solve with unperturbed costs. Here the first rung's limit is zero."""
-    from setsmooth import tolerances as tol
-    from setsmooth.solvers import warm_simplex
-    from setsmooth.solvers.warm_simplex import WarmSimplex, new_batch
-
-    pre, q = _cycling_program()
-    new_batch()
-    simplex(pre, -q)  # the model and its feasible basis, with the real limits
-    limits = iter([0.0])
-    real_limit = warm_simplex.rung_seconds
-    monkeypatch.setattr(warm_simplex, "rung_seconds", lambda size: next(limits, real_limit(size)))
-    perturbed = []
-    real_rung = WarmSimplex._set_rung
-
-    def recorded(self, *args, **kwargs):
-        perturbed.append(kwargs.get("perturbed", True))
-        real_rung(self, *args, **kwargs)
-
-    monkeypatch.setattr(WarmSimplex, "_set_rung", recorded)
-    new_batch()
-    name, eta, lam = simplex(pre, q)
-    assert perturbed[:2] == [True, False]
-    assert name == "AlmostSolved"
-    gap = pre.checked_gap(q, eta, lam)
-    assert gap is not None and gap <= tol.ACCURATE_GAP_TOL
-
-
-def _random_cz_and_hull_directions():
-    """A random non-empty CZ in R³ (40 factors, 12 rows) and the six directions of its hull."""
-    import setsmooth as ss
-
-    rng = np.random.default_rng(29)
-    ng, nc = 40, 12
-    A = rng.standard_normal((nc, ng))
-    Z = ss.ConstrainedZonotope(rng.standard_normal((3, ng)), rng.standard_normal(3), A,
-                               A @ rng.uniform(-0.5, 0.5, ng))
-    return Z, np.vstack([np.eye(3), -np.eye(3)])
-
-
-def test_after_a_time_out_the_rest_of_the_batch_asks_the_interior_point_method_first(monkeypatch):
-    """A program on which the warm simplex method ran out of time gets the interior-point method
-    first for the remaining directions of that support call (`factor_set.AFTER_TIME_OUT_ATTEMPTS`;
-    reliability case 029, k = 0: 76 s limits reached on several directions of one hull), the same
-    values to the checks' accuracy, and the next call starts with the simplex method again."""
-    from setsmooth.solvers import factor_set, warm_simplex
-
-    Z, D = _random_cz_and_hull_directions()
-    firsts: list = []  # the first solve of every direction
-    real_maximize, real_solve_on = factor_set.FactorConstraints.maximize, \
-        factor_set.FactorConstraints._solve_on
-
-    def maximize(self, *args, **kwargs):
-        firsts.append(None)
-        return real_maximize(self, *args, **kwargs)
-
-    def solve_on(self, pre, q, refine):
-        if firsts[-1] is None:
-            firsts[-1] = refine
-        return real_solve_on(self, pre, q, refine)
-
-    monkeypatch.setattr(factor_set.FactorConstraints, "maximize", maximize)
-    monkeypatch.setattr(factor_set.FactorConstraints, "_solve_on", solve_on)
-    reference = Z.support_many(D)  # the warm model and its feasible basis, with the real limits
-    assert firsts == ["simplex"] * 6  # the premise: the simplex method first, no time-out
-    limits = iter([0.0])  # the first direction's first rung stops at once
-    real_limit = warm_simplex.rung_seconds
-    monkeypatch.setattr(warm_simplex, "rung_seconds", lambda size: next(limits, real_limit(size)))
-    firsts.clear()
-    after_time_out, next_call = Z.support_many(D), Z.support_many(D)
-    assert firsts == ["simplex"] + ["cold interior"] * 5 + ["simplex"] * 6
-    width = reference[:3] + reference[3:]
-    for values in (after_time_out, next_call):
-        assert np.all(np.abs(values - reference) <= 1e-8 * np.tile(width, 2))
-
-
-def test_after_a_time_out_the_simplex_method_is_not_repeated_on_the_same_rows(monkeypatch):
-    """On a program too large for the dense dependent-row check, the "fully presolved" fallback
-    has the same rows as the first program. After the warm simplex method ran out of time on the
-    first program in this support call, it is not run again on that copy (reliability case 029,
-    k = 0: a second 81 s time-out on the first direction); the interior-point method answers."""
-    import setsmooth as ss
-    from setsmooth.solvers import factor_set, warm_simplex
-
-    monkeypatch.setattr(factor_set, "DENSE_PRESOLVE_MAX", 0)  # dependent rows not looked for
-    Z, D = _random_cz_and_hull_directions()
-    reference = Z.support_many(D)
-    Z = ss.ConstrainedZonotope(Z.G, Z.c, Z.A, Z.b)  # a fresh factor set
-    calls: list = []
-    real_solve_on = factor_set.FactorConstraints._solve_on
-
-    def solve_on(self, pre, q, refine):
-        name, eta, z = real_solve_on(self, pre, q, refine)
-        calls.append((pre is self.presolved, refine))
-        if refine is False:  # the kept interior-point instance does not settle either
-            name = "InsufficientProgress"
-        return name, eta, z
-
-    monkeypatch.setattr(factor_set.FactorConstraints, "_solve_on", solve_on)
-    monkeypatch.setattr(warm_simplex, "rung_seconds", lambda size: 0.0)  # every rung times out
-    values = Z.support_many(D)
-    assert calls[:3] == [(True, "simplex"), (True, False), (True, "cold interior")]
-    assert all(on_first for on_first, _ in calls)  # the copy of the rows is never solved
-    width = reference[:3] + reference[3:]
-    assert np.all(np.abs(values - reference) <= 1e-8 * np.tile(width, 2))

@@ -16,15 +16,20 @@ from scipy.optimize import linprog
 
 import setsmooth as ss
 from setsmooth import tolerances as tol
-from setsmooth.solvers import clarabel_lp, factor_set
+from setsmooth.solvers import clarabel_lp, policy
 from setsmooth.solvers.cz_program import CZProgram
 
 from ..reliability.random_systems import base_case, in_regime
 
 
-#: Clarabel answers every direction first (the simplex method answers first as built, and Clarabel
-#: only when it does not settle): the check under test is the same for either answer.
-INTERIOR_FIRST = (False, "simplex")
+#: Clarabel answers every direction first (the simplex method answers first as built on programs
+#: without free factors): the check under test is the same for either answer.
+INTERIOR_FIRST = (policy.Attempt("clarabel"), policy.Attempt("simplex")) + policy.FALLBACKS
+
+
+def interior_first(monkeypatch) -> None:
+    for free in (False, True):
+        monkeypatch.setitem(policy.POLICIES, ("bracketed", free), INTERIOR_FIRST)
 
 
 def exact_hull(Z: ss.ConstrainedZonotope) -> tuple[np.ndarray, np.ndarray]:
@@ -60,7 +65,7 @@ def smoothed_sets(regime: str):
 @pytest.mark.parametrize("regime", ["scale1", "offset1e+06"])
 def test_hulls_stay_exact_when_clarabel_stops_early(monkeypatch, regime):
     monkeypatch.setattr(clarabel_lp, "settings", loose_settings)
-    monkeypatch.setattr(factor_set, "BRACKETED_ATTEMPTS", INTERIOR_FIRST)
+    interior_first(monkeypatch)
     sets = smoothed_sets(regime)
     for k in (3, len(sets) - 1):
         S = sets[k]
@@ -77,7 +82,7 @@ def test_hulls_stay_exact_when_clarabel_stops_early(monkeypatch, regime):
 def test_without_the_check_the_loose_solver_is_visibly_off(monkeypatch):
     # The premise of the test above: the loose settings do produce wrong values when unchecked.
     monkeypatch.setattr(clarabel_lp, "settings", loose_settings)
-    monkeypatch.setattr(factor_set, "BRACKETED_ATTEMPTS", INTERIOR_FIRST)
+    interior_first(monkeypatch)
     monkeypatch.setattr(CZProgram, "_gap_tolerance",
                         staticmethod(lambda D, lo, up, rounding=None: np.full(D.shape[0], np.inf)))
     S = smoothed_sets("scale1")[3]

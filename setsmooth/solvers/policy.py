@@ -1,0 +1,77 @@
+"""Which backends a support program asks, in which order: the solver policy, as data.
+
+`policy(program, purpose)` returns the attempts for one objective; `FactorConstraints.maximize` asks
+them in turn and takes the first answer that its acceptance test passes (a 'solved' answer, or a
+'candidate' whose independent check in the presolved units is within ``ACCURATE_GAP_TOL``). The
+order is a function of the program's structure and the caller's purpose alone, never of time, load
+or the queries asked before.
+
+Purposes:
+
+* 'plain': the caller takes the answer as it is: Clarabel's kept instance first (the cheapest solve),
+  a refined fresh one, the simplex method, HiGHS's interior-point method last.
+* 'bracketed': the caller brackets the answer between a certified bound and the solver's value and
+  escalates it when the bracket is loose (`CZProgram._verified`). On a program whose factors are
+  all bounded the warm-started simplex method first: on the recursion smoother's degenerate sets
+  Clarabel stopped at 'AlmostSolved' on most directions (relative gaps 1e-8..1e-7, the refined
+  re-solve at the same point), and simplex first took the plain hulls of reliability cases 043,
+  045 and 000 from 58, 70 and 8.4 s to 13, 39 and 5.4 s (``benchmarks/bench_bracketed_order.py``).
+  With free factors Clarabel first: the simplex method's multipliers leave up to its dual
+  feasibility tolerance on the free factors, which a certificate multiplies by their bound.
+* 'escalated': a direction whose bracket was loose. A cold simplex solve first (a vertex with
+  multipliers exact to rounding, from HiGHS's own presolve and scaling rather than another
+  objective's basis), then a refined interior-point solve.
+
+An attempt ``on_full`` runs on the fully presolved program (linearly dependent rows dropped by a
+rank-revealing QR, built only when the attempt is reached); where that program is the kept one, it
+is the same attempt as without ``on_full`` and is asked only if that one is not in the policy.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["Attempt", "policy", "POLICIES", "PURPOSES"]
+
+
+@dataclass(frozen=True)
+class Attempt:
+    """One backend (`backends.BACKENDS`) on the kept or the fully presolved program."""
+
+    backend: str
+    on_full: bool = False
+
+
+#: The attempts after a purpose's first two: a refined Clarabel solve and the simplex method on the
+#: fully presolved program, HiGHS's interior-point method last (reliability case 184: the simplex
+#: method met a singular basis on every rung and Clarabel a 'NumericalError', where it settled).
+FALLBACKS = (Attempt("clarabel refined", True), Attempt("simplex", True), Attempt("interior"))
+
+#: The attempts by (purpose, whether the program has free factors).
+POLICIES: dict[tuple[str, bool], tuple[Attempt, ...]] = {
+    ("plain", False): (Attempt("clarabel"), Attempt("clarabel refined")) + FALLBACKS,
+    ("plain", True): (Attempt("clarabel"), Attempt("clarabel refined")) + FALLBACKS,
+    ("bracketed", False): (Attempt("simplex"), Attempt("clarabel")) + FALLBACKS,
+    ("bracketed", True): (Attempt("clarabel"), Attempt("simplex")) + FALLBACKS,
+    ("escalated", False): (Attempt("simplex cold"), Attempt("clarabel refined"),
+                           Attempt("clarabel refined", True), Attempt("interior")),
+    ("escalated", True): (Attempt("simplex cold"), Attempt("clarabel refined"),
+                          Attempt("clarabel refined", True), Attempt("interior")),
+}
+
+PURPOSES = ("plain", "bracketed", "escalated")
+
+
+def policy(program, purpose: str) -> tuple[Attempt, ...]:
+    """The attempts for one objective over ``program`` (a `presolve.Presolved`), in order.
+
+    Parameters
+    ----------
+    program : Presolved
+        The kept presolved program; only its structure is read (whether it has free factors).
+    purpose : {'plain', 'bracketed', 'escalated'}
+        What the caller does with the answer (module docstring).
+    """
+    if purpose not in PURPOSES:
+        raise ValueError(f"purpose must be one of {PURPOSES}, got {purpose!r}")
+    return POLICIES[purpose, bool(program.has_free)]
