@@ -29,6 +29,7 @@ import scipy.sparse as sp
 from scipy.optimize import linprog
 
 import setsmooth as ss
+from setsmooth.solvers.highs import quiet_highs
 
 #: HiGHS tolerances on the unit-scaled problem.
 HIGHS_OPTIONS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
@@ -277,8 +278,7 @@ class _WarmLP:
 
     @staticmethod
     def _model(E: np.ndarray, f: np.ndarray, bounds: np.ndarray, options: dict):
-        h = highspy.Highs()
-        h.setOptionValue("output_flag", False)
+        h = quiet_highs()  # (only the construction: HiGHS's banner kept off the terminal)
         for key, value in options.items():
             h.setOptionValue(key, value)
         inf = highspy.kHighsInf
