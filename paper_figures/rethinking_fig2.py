@@ -112,8 +112,9 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
                 shape_holds=bool(per_run.mean() < 0.95),
                 error=f"s.e. {100 * (steady_se or float('nan')):.2f} % over {per_run.size} runs, N = {n_samples} "
                       f"samples per step (paper: {ex.PAPER_RUNS_FIG2} × {ex.PAPER_RUNS_FIG2})"),
-        v.claim("ratio 1 at k = 0 and decreasing up to k = 5",
-                bool(abs(mean[0] - 1) < 1e-9 and np.all(np.diff(mean[:ex.FIG2_STEADY_FROM + 1]) < 0)),
+        v.claim("ratio 1 at k = 0 and decreasing up to k = 5 (no rise above 2 s.e.)",
+                bool(abs(mean[0] - 1) < 1e-9 and np.all(np.diff(mean[:ex.FIG2_STEADY_FROM + 1])
+                                                        <= 2 * se[1:ex.FIG2_STEADY_FROM + 1])),
                 decreasing, f"s.e. at k = 5: {100 * se[ex.FIG2_STEADY_FROM]:.2f} %"),
         v.claim("true state inside the classical range (Theorem 3)", outside_classical == 0,
                 f"{outside_classical} of {x.size} outside", "none (a guarantee)"),

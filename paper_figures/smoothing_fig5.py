@@ -109,7 +109,12 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
         "the SMS point estimate's MSE is below the tuned RTS smoother's (at every k and on average by more "
         "than 2 s.e.)", wins == k.size and gap + 2 * gap_se < 0,
         f"{wins} of {k.size} steps; SMS − RTS {gap:+.4f} ± {gap_se:.4f}; RTS tuned at ({tuned['q']:.4g}, "
-        f"{tuned['r']:.4g}), {tuned['source']}", f"paired s.e. {gap_se:.2g} over {runs} runs")]
+        f"{tuned['r']:.4g}), {tuned['source']}", f"paired s.e. {gap_se:.2g} over {runs} runs"),
+        _verdicts.claim(
+            f"the same with the RTS smoother at the paper's (q, r) = {ex.PAPER_BEST_QR}",
+            bool(np.all(mse_sms < mse_rts_paper)) and gap_paper + 2 * gap_paper_se < 0,
+            f"{int((mse_sms < mse_rts_paper).sum())} of {k.size} steps; SMS − RTS {gap_paper:+.4f} ± "
+            f"{gap_paper_se:.4f}", f"paired s.e. {gap_paper_se:.2g} over {runs} runs")]
     data = {
         "figure": "Smoothing paper Fig. 5",
         "rows": rows,
