@@ -193,7 +193,7 @@ def common_settings(exp: dict) -> dict:
                                     "Girard((n_g − n_c)/n)",
             "experiment computed": "read from cache" if exp["cached"] else "in this script",
             "BLAS threads in force while timing (read back, per run)":
-                sorted({int(t) for t in exp["blas_threads"]}) or "unknown (cache without the record)"}
+                sorted({int(t) for t in exp["blas_threads"] if t}) or "unknown (cache without the record)"}
 
 
 #: The conventions shared by the LSU paper's tables and figures, printed above their rows.
