@@ -13,7 +13,8 @@ from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
 
-#: Public name -> the submodule defining it.
+#: Public name -> the submodule defining it (each listed in that submodule's ``__all__``;
+#: ``tests/test_namespace.py`` checks both ways).
 _EXPORTS = {
     **dict.fromkeys(["ConvexSet", "Box", "Zonotope", "ConstrainedZonotope", "HPolytope", "Ellipsoid",
                      "EmptySet", "Reals", "LinearMap", "MinkowskiSum", "Intersection",
@@ -50,24 +51,8 @@ _MODULES = {
     "references": ".papers.references",
 }
 
-__all__ = [
-    "ConvexSet", "Box", "Zonotope", "ConstrainedZonotope", "HPolytope", "Ellipsoid", "EmptySet",
-    "Reals", "LinearMap", "MinkowskiSum", "Intersection", "GeneralizedIntersection",
-    "CartesianProduct", "SolverError", "LinearSystem", "NonlinearSystem", "simulate",
-    "classical_filter", "optimal_smoother", "trajectory_set", "filtering_map", "interval_filter",
-    "interval_smoother",
-    "IntervalEstimates", "kalman_filter", "rts_smoother", "KalmanResult", "montecarlo", "paper_examples",
-    "reduce", "ReductionMethod", "DropZeros", "DropDependentConstraints", "MergeParallelGenerators",
-    "Rescale", "EliminateConstraints", "Girard", "Combastel", "IntervalHull", "CORA_GIRARD",
-    "CORA_COMBASTEL", "oit_inspired_filter", "oit_cz_filter", "OITResult",
-    "analysis", "observation_set", "observation_information_set", "observation_information_tower",
-    "JointRange", "ScalarRelatedNoiseSystem", "joint_trajectory_set", "optimal_filter",
-    "optimal_joint_smoother", "augment_identical_process_noise", "sampled_optimal_filter",
-    "classical_interval_filter", "SampledRanges", "rethinking_examples",
-    "SetEstimates", "references",
-    "CORA_COMBASTEL", "VPolytope", "Containment", "is_subset", "pontryagin_difference", "ChebyshevBall", "Polygon",
-    "LSUModel", "LSUResult", "lsu_cz_filter", "lsuo_filter", "lsup_filter", "lsu_point_estimate",
-]
+#: The public namespace: every name above, one list (its order is `_EXPORTS`'s, then the modules').
+__all__ = [*_EXPORTS, *_MODULES]
 
 
 def __getattr__(name: str) -> Any:
@@ -104,7 +89,7 @@ if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
     from .sets import (CORA_COMBASTEL, CORA_GIRARD, Combastel, DropDependentConstraints, DropZeros,
                        EliminateConstraints, Girard, IntervalHull, MergeParallelGenerators,
                        ReductionMethod, Rescale, reduce)
-    from .sets import ChebyshevBall, Containment, VPolytope, is_subset, pontryagin_difference
+    from .sets import ChebyshevBall, Containment, Polygon, VPolytope, is_subset, pontryagin_difference
     from .smoothers import interval_smoother, optimal_smoother
     from .solvers import SolverError
     from .models import LinearSystem, NonlinearSystem, simulate
