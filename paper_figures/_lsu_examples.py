@@ -20,6 +20,7 @@ from setsmooth import montecarlo
 from setsmooth.filters.lsu import DEFAULT_MAX_CONSTRAINTS, DEFAULT_MAX_GENERATORS
 
 import _blas
+import _verdicts
 from _outputs import DEFAULT_OUT
 
 PAPER = "lsu"
@@ -299,8 +300,6 @@ def error_curve_main(name: str, metric: str, label: str, published: dict, figure
                         f"LSUP min. volume {mean[i, ESTIMATORS.index('LSUP')]:.3g}; LSUP kept shape "
                         f"{mean[i, ESTIMATORS.index('LSUP-kept')]:.3g} vs paper LSUP "
                         f"{pub[3] if pub and pub[3] is not None else '< 1e-3'})"))
-    import _verdicts
-
     # The paper's ordering at high noise (K ≤ 1), where its columns are steady-state numbers.
     high = [i for i, k in enumerate(K) if k <= 1.0 and published.get(k) and None not in published[k]]
     same = [consistent(mean[i, columns], se[i, columns], published[K[i]]) for i in high]

@@ -16,6 +16,7 @@ from setsmooth.papers.smoothing_examples import (SMOOTHING_31_X0, SMOOTHING_33_V
                                                  measurement_interval_34, smoothing_example_31,
                                                  smoothing_example_31_x0, smoothing_example_33)
 
+import _verdicts
 from _outputs import row
 
 PAPER = "smoothing"
@@ -89,8 +90,6 @@ def shrinkage_rows(x: np.ndarray, f_lo: np.ndarray, f_hi: np.ndarray, s_lo: np.n
         row("true state outside the range (filtered, smoothed), of runs×(T+1)", "0 (guaranteed)",
             f"{outside_f}, {outside_s} of {per_run_ok.size}"),
     ]
-    import _verdicts
-
     runs = filtered_diam.shape[0]
     gap = filtered_diam - smoothed_diam
     gap_se = gap.std(axis=0, ddof=1) / np.sqrt(runs) if runs > 1 else np.full(gap.shape[1], np.nan)
