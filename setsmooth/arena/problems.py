@@ -1,0 +1,178 @@
+"""The zoo: estimation problems with their noise sets, horizon and seeded data.
+
+Every problem is a function ``(rng, horizon=None) -> Problem``: it draws whatever is random (the
+system, for the random ones, then the true trajectory and its measurements) from the one
+`numpy.random.Generator` it is given, so a seed fixes the whole problem. The data are simulated with
+the noises drawn uniformly from their ranges (`setsmooth.simulate`), so the true states are
+consistent with the model and every sound estimator must contain them.
+
+Heavy problems (the long horizon) are left out of the default selection; name them to run them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .._validation import as_generator
+from ..analysis.random_systems import random_observable_system
+from ..models.systems import LinearSystem, simulate
+from ..papers.smoothing_examples import smoothing_example_31, smoothing_example_31_x0
+from ..sets.base import ConvexSet
+from ..sets.box import Box
+from ..sets.constrained_zonotope import ConstrainedZonotope
+
+__all__ = ["Problem", "ProblemSpec", "PROBLEMS", "make_problem", "problem_names", "check_problems"]
+
+
+@dataclass(frozen=True, eq=False)
+class Problem:
+    """One problem instance: a system, its initial range, a true trajectory and its measurements.
+
+    Attributes
+    ----------
+    name : str
+    system : LinearSystem
+    X0 : ConvexSet
+        ⟦x_0⟧, the initial range the estimators are given (the true x_0 is drawn from it).
+    xs : ndarray, shape (T+1, n)
+        True states x_0..x_T.
+    ys : ndarray, shape (T+1, m)
+        Measurements y_0..y_T.
+    horizon : int
+        T.
+    """
+
+    name: str
+    system: LinearSystem
+    X0: ConvexSet
+    xs: np.ndarray
+    ys: np.ndarray
+    horizon: int
+
+
+@dataclass(frozen=True)
+class ProblemSpec:
+    """A zoo entry: the function drawing the problem, its default horizon, and whether it is heavy."""
+
+    build: Callable[[np.random.Generator, int], tuple[LinearSystem, ConvexSet]]
+    horizon: int
+    summary: str
+    heavy: bool = False
+
+
+def _example_31(rng: np.random.Generator, T: int) -> tuple[LinearSystem, ConvexSet]:
+    return smoothing_example_31(), smoothing_example_31_x0()
+
+
+def _thin_noise(rng: np.random.Generator, T: int) -> tuple[LinearSystem, ConvexSet]:
+    # Example (31)'s dynamics with noise ranges of half-width 1e-5: sets five orders of magnitude
+    # thinner than the states, where rounding at the states' scale shows.
+    base = smoothing_example_31()
+    thin = 1e-5
+    system = LinearSystem(base.A(0), base.B(0), base.C(0), base.D(0),
+                          W=Box([-thin], [thin]), V=Box([-thin, -thin], [thin, thin]))
+    return system, smoothing_example_31_x0()
+
+
+def _mass_spring_damper(rng: np.random.Generator, T: int) -> tuple[LinearSystem, ConvexSet]:
+    import control
+
+    # 1 Hz, lightly damped, pushed by an unknown force |w(t)| <= 1; the position is measured every
+    # 0.25 s to within 0.02. 'bounded' sampling: sound for any w(t) in W at every instant.
+    omega, zeta = 2 * np.pi, 0.05
+    plant = control.ss([[0.0, 1.0], [-omega ** 2, -2 * zeta * omega]], [[0.0], [1.0]], [[1.0, 0.0]], 0)
+    system = LinearSystem.from_statespace(plant, Box([-1.0], [1.0]), Box([-0.02], [0.02]), dt=0.25,
+                                          partition=8)
+    return system, Box([-0.3, -1.0], [0.3, 1.0])
+
+
+def _cz_noise(rng: np.random.Generator, T: int) -> tuple[LinearSystem, ConvexSet]:
+    # A random stable observable system (n = 3) whose process noise is a triangle, a CZ that is
+    # neither a box nor a zonotope: ξ ∈ [−1, 1]³ with ξ₁ + ξ₂ + ξ₃ = 1, mapped by G.
+    drawn = random_observable_system(rng, 3, 2, 2)
+    W = ConstrainedZonotope(np.array([[0.4, -0.3, 0.1], [0.1, 0.2, -0.35]]), np.zeros(2),
+                            A=[[1.0, 1.0, 1.0]], b=[1.0])
+    V = Box([-0.5, -0.5], [0.5, 0.5])
+    return drawn.linear_system(W=W, V=V), Box(-5.0 * np.ones(3), 5.0 * np.ones(3))
+
+
+def _stability_random_10(rng: np.random.Generator, T: int) -> tuple[LinearSystem, ConvexSet]:
+    # Stability paper Table 1's setting at n = p = m = 10: W = [−1, 1]^p, V = [−1, 1]^m, ⟦x_0⟧ = [−10, 10]ⁿ.
+    drawn = random_observable_system(rng, 10, 10, 10)
+    return drawn.linear_system(), Box(-10.0 * np.ones(10), 10.0 * np.ones(10))
+
+
+#: The zoo, by name. Default horizons keep one run of every estimator on every light problem to seconds.
+PROBLEMS: dict[str, ProblemSpec] = {
+    "example31": ProblemSpec(_example_31, 20, "smoothing paper example (31), ⟦x_0⟧ = [−5, 5]²"),
+    "mass_spring_damper": ProblemSpec(
+        _mass_spring_damper, 20, "python-control mass-spring-damper, sampled soundly (Δ = 0.25 s)"),
+    "thin_noise": ProblemSpec(_thin_noise, 20, "example (31) with noise half-widths 1e-5"),
+    "cz_noise": ProblemSpec(_cz_noise, 20, "random stable n = 3 system, triangle-CZ process noise"),
+    "random10": ProblemSpec(_stability_random_10, 10,
+                            "stability paper random observable system, n = p = m = 10"),
+    "long_horizon": ProblemSpec(_example_31, 1000, "example (31) over T = 1000 steps", heavy=True),
+}
+
+
+def problem_names(include_heavy: bool = False) -> list[str]:
+    """The zoo's problem names, heavy ones only when asked."""
+    return [name for name, spec in PROBLEMS.items() if include_heavy or not spec.heavy]
+
+
+def check_problems(names: Any, argument: str = "problems") -> list[str]:
+    """Validate problem names; None gives the default (every problem that is not heavy).
+
+    Raises
+    ------
+    ValueError
+        For an unknown name, naming ``argument`` and the valid choices.
+    """
+    if names is None:
+        return problem_names()
+    if isinstance(names, str):
+        names = [names]
+    names = list(dict.fromkeys(names))
+    unknown = [name for name in names if name not in PROBLEMS]
+    if unknown:
+        raise ValueError(f"{argument}: unknown problem {', '.join(map(repr, unknown))}; "
+                         f"choose from {', '.join(PROBLEMS)}")
+    if not names:
+        raise ValueError(f"{argument}: no problem given; choose from {', '.join(PROBLEMS)}")
+    return names
+
+
+def make_problem(name: str, rng: Any, horizon: int | None = None) -> Problem:
+    """Draw problem ``name`` from ``rng`` (a Generator or an int seed), over ``horizon`` steps.
+
+    Parameters
+    ----------
+    name : str
+        A key of `PROBLEMS`.
+    rng : numpy.random.Generator or int
+        The only source of randomness (system, when random, then x_0 and the noises).
+    horizon : int, optional
+        T (measurements y_0..y_T); the problem's own default when None.
+
+    Returns
+    -------
+    Problem
+
+    Examples
+    --------
+    >>> p = make_problem("example31", 0, horizon=3)
+    >>> p.xs.shape, p.ys.shape, p.horizon
+    ((4, 2), (4, 2), 3)
+    """
+    spec = PROBLEMS[check_problems([name], "name")[0]]
+    T = spec.horizon if horizon is None else int(horizon)
+    if T < 0:
+        raise ValueError(f"horizon must be a non-negative integer, got {horizon!r}")
+    rng = as_generator(rng)
+    system, X0 = spec.build(rng, T)
+    xs, ys = simulate(system, X0, T, rng)
+    return Problem(name, system, X0, xs, ys, T)
