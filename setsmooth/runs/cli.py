@@ -204,6 +204,9 @@ def _upload_scripts(client, figures_dir: Path) -> None:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="setsmooth", description="setsmooth command line")
     commands = parser.add_subparsers(dest="command", required=True)
+    from ..arena.command import add_parser as add_arena_parser   # argparse only: no solver loads
+
+    arena = add_arena_parser(commands)
     figures = commands.add_parser(
         "figures", help="regenerate the paper figures and paper_figures/out/REPORT.md",
         description=__doc__.split("\n\n", 1)[1], formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -226,6 +229,10 @@ def main(argv: list[str] | None = None) -> int:
                          help="vector copies of every figure besides the PNG: pdf, svg, eps "
                               "(comma-separated, e.g. pdf,svg)")
     args = parser.parse_args(argv)
+    if args.command == "arena":
+        from ..arena.command import run as run_arena
+
+        return run_arena(args, arena)
     try:
         formats = parse_formats(args.format)
     except ValueError as exc:
