@@ -1,0 +1,113 @@
+"""The arena flags unsound estimators, shows registered ones beside the built-ins, and is reproducible.
+
+Tiny horizons and one or two serial runs: the whole file takes a few seconds.
+"""
+
+from __future__ import annotations
+
+import json
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+import setsmooth as ss
+from setsmooth import arena
+from setsmooth.runs import cli
+
+
+def shrunk_exact_filter(system, X0, ys):
+    """The exact filter's hulls shrunk by 1 % about their centres: unsound by construction."""
+    exact = ss.classical_filter(system, X0, ys)
+    centre, radius = (exact.lo + exact.hi) / 2, (exact.hi - exact.lo) / 2
+    return SimpleNamespace(lo=centre - 0.99 * radius, hi=centre + 0.99 * radius)
+
+
+def interval_hull_filter(system, X0, ys):
+    """The classical filter reduced to its interval hull at every step: outer bounds."""
+    return ss.classical_filter(system, X0, ys, reduce=ss.IntervalHull())
+
+
+@pytest.fixture
+def registered():
+    added = [arena.register("shrunk_1pct", shrunk_exact_filter),
+             arena.register("interval_hull_filter", interval_hull_filter)]
+    yield [e.name for e in added]
+    for e in added:
+        arena.unregister(e.name)
+
+
+@pytest.fixture(scope="module")
+def small():
+    """Two serial runs of example (31) over five steps, with the two estimators registered."""
+    arena.register("shrunk_1pct", shrunk_exact_filter)
+    arena.register("interval_hull_filter", interval_hull_filter)
+    try:
+        return arena.run_arena(["example31"], ["exact_filter", "shrunk_1pct", "interval_hull_filter"],
+                               runs=2, seed=3, horizon=5, executor="serial", progress=False)
+    finally:
+        arena.unregister("shrunk_1pct")
+        arena.unregister("interval_hull_filter")
+
+
+def _row(result, estimator):
+    return next(r for r in result.rows if r["estimator"] == estimator)
+
+
+def test_an_estimator_shrinking_the_exact_posterior_by_one_percent_is_flagged_unsound(small):
+    shrunk = _row(small, "shrunk_1pct")
+    assert shrunk["sound"] is False
+    assert shrunk["containment_failures"] == 2              # every run, whatever the truth did
+    assert shrunk["containment_gap"] == pytest.approx(0.005, rel=1e-6)   # 1 % of the radius, per side
+    assert small.unsound() == [("example31", "shrunk_1pct")]
+    assert "**UNSOUND**" in next(line for line in arena.markdown_table(small).splitlines()
+                                 if "shrunk_1pct" in line)
+
+
+def test_the_exact_filter_is_sound_and_its_own_reference(small):
+    exact = _row(small, "exact_filter")
+    assert exact["sound"] is True and exact["outside"] == 0 and exact["containment_failures"] == 0
+    assert exact["volume_ratio"] == pytest.approx(1.0)
+
+
+def test_a_registered_estimator_appears_in_the_table_beside_the_built_ins(small):
+    row = _row(small, "interval_hull_filter")
+    assert row["sound"] is True and row["runs"] == 2
+    assert row["volume_ratio"] >= 1.0 and row["mean_radius"] >= _row(small, "exact_filter")["mean_radius"]
+    table = arena.markdown_table(small)
+    assert "| example31 | interval_hull_filter | 2 |" in table
+    assert "| example31 | exact_filter | 2 |" in table
+
+
+def test_registering_a_taken_name_or_a_non_callable_is_refused(registered):
+    with pytest.raises(ValueError, match="already registered"):
+        arena.register("exact_filter", shrunk_exact_filter)
+    with pytest.raises(TypeError, match="callable"):
+        arena.register("nothing", None)
+    assert set(registered) <= set(arena.ESTIMATORS)
+
+
+def test_unknown_problem_or_estimator_names_the_argument_and_the_choices():
+    with pytest.raises(ValueError, match=r"problems: unknown problem 'nope'; choose from example31"):
+        arena.run_arena(["nope"], ["exact_filter"], runs=1)
+    with pytest.raises(ValueError, match=r"estimators: unknown estimator 'nope'; choose from exact_filter"):
+        arena.run_arena(["example31"], ["nope"], runs=1)
+
+
+def test_a_problem_is_fixed_by_its_seed():
+    a, b = arena.make_problem("cz_noise", 5, horizon=3), arena.make_problem("cz_noise", 5, horizon=3)
+    assert np.array_equal(a.xs, b.xs) and np.array_equal(a.ys, b.ys)
+    assert np.array_equal(a.system.A(0), b.system.A(0))
+    assert not np.array_equal(a.ys, arena.make_problem("cz_noise", 6, horizon=3).ys)
+
+
+def test_the_command_writes_the_json_the_table_and_the_figure(tmp_path, capsys):
+    status = cli.main(["arena", "--problems", "example31", "--estimators", "exact_filter,oit_cz",
+                       "--runs", "1", "--horizon", "4", "--out", str(tmp_path), "--no-progress"])
+    assert status == 0
+    record = json.loads((tmp_path / "arena.json").read_text())
+    assert [r["estimator"] for r in record["rows"]] == ["exact_filter", "oit_cz"]
+    assert all(r["sound"] for r in record["rows"])
+    assert (tmp_path / "arena.png").stat().st_size > 0
+    assert "| example31 | oit_cz | 1 |" in (tmp_path / "arena.md").read_text()
+    assert "| example31 | oit_cz | 1 |" in capsys.readouterr().out
