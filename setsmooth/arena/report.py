@@ -77,6 +77,7 @@ def plot_arena(result: ArenaResult):
     matplotlib.figure.Figure
     """
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
     problems = result.config["problems"]
     cols = min(3, len(problems))
@@ -95,8 +96,14 @@ def plot_arena(result: ArenaResult):
             ax.annotate(r["estimator"] + (" (unsound)" if unsound else ""), (r["cpu_ms_per_step"], y),
                         textcoords="offset points", xytext=(4, 4), fontsize=7,
                         color="tab:red" if unsound else "black")
-        ax.set_xscale("log")
-        ax.set_yscale("log")
+        if use_ratio:
+            ax.axhline(1.0, color="grey", lw=0.8, ls=":", zorder=1)   # the exact estimator's volume
+        for axis, set_scale in ((ax.xaxis, ax.set_xscale), (ax.yaxis, ax.set_yscale)):
+            set_scale("log")
+            axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+            axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+            axis.set_minor_formatter(NullFormatter())
+        ax.margins(0.2)
         ax.set_title(problem, fontsize=9)
         ax.set_xlabel("CPU ms per step (estimator + hulls)", fontsize=8)
         ax.set_ylabel("hull volume / exact" if use_ratio else "mean radius", fontsize=8)
