@@ -86,15 +86,17 @@ def plot_arena(result: ArenaResult):
     for ax, problem in zip(axes.flat, problems):
         rows = [r for r in result.rows if r["problem"] == problem and r["sound"] is not None]
         use_ratio = any(not math.isnan(r["volume_ratio"]) for r in rows)
-        for r in rows:
+        for i, r in enumerate(rows):
             y = r["volume_ratio"] if use_ratio else r["mean_radius"]
             if y is None or math.isnan(y) or y <= 0:
                 continue
             unsound = not r["sound"]
-            ax.scatter(r["cpu_ms_per_step"], y, marker="x" if unsound else "o", s=40,
+            marker = "x" if unsound else ("s" if r["kind"] == "smoothed" else "o")
+            ax.scatter(r["cpu_ms_per_step"], y, marker=marker, s=40,
                        color="tab:red" if unsound else "tab:blue", zorder=3)
+            # alternate above and below, so that estimators at one volume (the exact ones) stay legible
             ax.annotate(r["estimator"] + (" (unsound)" if unsound else ""), (r["cpu_ms_per_step"], y),
-                        textcoords="offset points", xytext=(4, 4), fontsize=7,
+                        textcoords="offset points", xytext=(4, 4 if i % 2 == 0 else -11), fontsize=7,
                         color="tab:red" if unsound else "black")
         if use_ratio:
             ax.axhline(1.0, color="grey", lw=0.8, ls=":", zorder=1)   # the exact estimator's volume
@@ -111,7 +113,8 @@ def plot_arena(result: ArenaResult):
         ax.grid(True, which="both", alpha=0.3)
     for ax in list(axes.flat)[len(problems):]:
         ax.set_visible(False)
-    fig.suptitle(f"setsmooth arena: {result.config['runs']} runs, seed {result.config['seed']}", fontsize=10)
+    fig.suptitle(f"setsmooth arena: {result.config['runs']} runs, seed {result.config['seed']}   "
+                 "(○ filter / exact filter, □ smoother / exact smoother, red × unsound)", fontsize=10)
     fig.tight_layout()
     return fig
 
