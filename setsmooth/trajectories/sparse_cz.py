@@ -25,7 +25,8 @@ sees deviations of the noises' scale, however far the states are from the origin
 the states cost the solver 1e-3 of absolute accuracy when the states themselves were the factors).
 
 Factors, in order: s_i..s_k (the state deviations, h = ∞), ξ_Z (the prior), ξ_{w,i..k−1} (W),
-ξ_{v,i..k} (V). Rows: A_Z ξ_Z = b_Z, A_w ξ_{w,l} = b_w, A_v ξ_{v,l} = b_v, then
+ξ_{v,i..k} (V). Rows: A_Z ξ_Z = b_Z, A_w ξ_{w,l} = b_w, A_v ξ_{v,l} = b_v, then::
+
     s_i − G_Z ξ_Z                       = 0
     s_{l+1} − A_l s_l − B_l G_w ξ_{w,l} = 0
     C_l s_l + D_l G_v ξ_{v,l}           = y_l − D_l c_v − C_l x̄_l
