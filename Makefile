@@ -1,10 +1,12 @@
-# Two entry points: `make test` and `make figures`. Both create .venv when it is missing.
+# Two entry points: `make test` and `make figures`. Both create .venv when it is missing (so does
+# `make docs`, which builds the documentation site).
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
+DOCS_STAMP := $(VENV)/.installed-docs
 
-.PHONY: test figures examples bench reliability clean
+.PHONY: test figures examples bench reliability docs clean
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -26,9 +28,18 @@ figures: examples
 bench: $(STAMP)
 	$(PY) benchmarks/bench_support.py
 
+$(DOCS_STAMP): $(STAMP) pyproject.toml
+	$(PY) -m pip install --quiet -e ".[docs]"
+	touch $(DOCS_STAMP)
+
+# The documentation site (Sphinx; warnings are errors) into docs/_build/html. The gallery shows the
+# examples' figures from docs/gallery/images/, so nothing is executed here.
+docs: $(DOCS_STAMP)
+	MPLBACKEND=Agg $(VENV)/bin/sphinx-build -W --keep-going -b html docs docs/_build/html
+
 # The large reliability run of issue 7 (>= 250 random systems x 4 regimes x 3 estimators; long).
 reliability: $(STAMP)
 	$(PY) benchmarks/reliability.py --workers 2
 
 clean:
-	rm -rf $(VENV) paper_figures/out examples/out .pytest_cache .hypothesis
+	rm -rf $(VENV) paper_figures/out examples/out .pytest_cache .hypothesis docs/_build docs/api/generated docs/api/namespace.rst docs/gallery/generated
