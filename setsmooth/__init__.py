@@ -26,7 +26,9 @@ _EXPORTS = {
     "SolverError": ".solvers",
     **dict.fromkeys(["LinearSystem", "NonlinearSystem", "simulate"], ".models"),
     **dict.fromkeys(["classical_filter", "interval_filter", "kalman_filter", "rts_smoother",
-                     "KalmanResult", "oit_inspired_filter", "oit_cz_filter", "OITResult"], ".filters"),
+                     "KalmanResult", "oit_inspired_filter", "oit_cz_filter", "OITResult",
+                     "first_inconsistency", "Inconsistency", "ModelInvalidationWarning",
+                     "ModelInvalidatedError"], ".filters"),
     **dict.fromkeys(["optimal_smoother", "interval_smoother"], ".smoothers"),
     **dict.fromkeys(["trajectory_set", "filtering_map"], ".trajectories"),
     **dict.fromkeys(["LSUModel", "LSUResult", "lsu_cz_filter", "lsuo_filter", "lsup_filter",
@@ -79,6 +81,8 @@ if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
     from .filters.lsu import (LSUModel, LSUResult, lsu_cz_filter, lsu_point_estimate, lsuo_filter,
                               lsup_filter)
     from .filters import OITResult, oit_cz_filter, oit_inspired_filter
+    from .filters import (Inconsistency, ModelInvalidatedError, ModelInvalidationWarning,
+                          first_inconsistency)
     from .models.intervals import IntervalEstimates
     from .analysis.observation_information import (observation_information_set,
                                                    observation_information_tower, observation_set)

@@ -21,6 +21,7 @@ from ..sets.algebra import generalized_intersection, linear_map, minkowski_sum, 
 from ..sets.base import ConvexSet
 from ..sets.empty import EmptySet
 from ..sets.reduction import apply_methods, as_methods
+from .consistency import ON_INCONSISTENT, first_inconsistency, report_inconsistency
 
 #: The forms of the exact filter's CZ posteriors (``form=``). 'views': the last projections of one
 #: sparse trajectory CZ (`setsmooth.trajectories.posterior_views`), O(T) memory for a data set, and the
@@ -38,7 +39,8 @@ FORMS = ("auto", "views", "recursion", "polygon")
 
 
 def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
-                     detect_empty: bool = True, form: str = "auto") -> SetEstimates:
+                     detect_empty: bool = True, form: str = "auto",
+                     on_inconsistent: str = "warn") -> SetEstimates:
     """Posterior ranges ⟦x_k | y_{0:k}⟧ for k = 0..T (stability paper Algorithm 1).
 
     With ``reduce`` it is a bounded filter: the reduction is applied to every posterior before the next
@@ -75,6 +77,13 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
         `Polygon` is never empty). ``optimal_smoother(method='recursion', posteriors=...)`` smooths
         them in closed form too. Not with ``reduce`` (a ValueError: the reduced filter has its own
         recursion).
+    on_inconsistent : {'warn', 'raise', 'ignore'}
+        What to do when the exact filter's posteriors become empty (with ``detect_empty``): the
+        data contradict the model from that step on (model invalidation,
+        `setsmooth.filters.consistency`). 'warn' issues a `ModelInvalidationWarning` naming the
+        first step, its measurement and its ∞-norm distance from the predicted output set; 'raise'
+        raises `ModelInvalidatedError` with the same message. (Reduced filters are outer bounds,
+        whose emptiness proves inconsistency too; they report it the same way.)
 
     Returns
     -------
@@ -97,6 +106,17 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
     """
     ys = as_measurements(ys, check_system(system).m)
     _check_state_set(X0, "X0", system.n)
+    if on_inconsistent not in ON_INCONSISTENT:
+        raise ValueError(f"on_inconsistent must be one of {ON_INCONSISTENT}, got {on_inconsistent!r}")
+    result = _filtered(system, X0, ys, reduce, detect_empty, form)
+    if detect_empty and on_inconsistent != "ignore" and result.first_empty is not None:
+        report_inconsistency(first_inconsistency(system, X0, ys, result), on_inconsistent)
+    return result
+
+
+def _filtered(system, X0: ConvexSet, ys: np.ndarray, reduce: Any, detect_empty: bool,
+              form: str) -> SetEstimates:
+    """`classical_filter` after its checks."""
     if form not in FORMS:
         raise ValueError(f"form must be one of {FORMS}, got {form!r}")
     if reduce is not None and form != "auto":
