@@ -197,16 +197,25 @@ def _gallery_pages(app) -> None:
 
 
 class PythonDomain(_SphinxPythonDomain):
-    """The Python domain, except that a symbol of one or two characters (the ``n`` and ``ng`` of
-    ``shape (n, ng)``, ``lo``, ``hi``) that several classes' attributes would answer is left unlinked:
-    it names a dimension or a bound, not one of those attributes."""
+    """The Python domain, with two readings of the docstrings' bare `names`.
+
+    * A class or constant named from another module (`ConvexSet` in a filter's docstring, `Girard`
+      in the reduction package's) links to its definition when exactly one object of that name is
+      documented; likewise a dotted name (`ConvexSet.interval_hull`).
+    * A symbol of one or two characters (the ``n`` and ``ng`` of ``shape (n, ng)``, ``lo``, ``hi``)
+      that several classes' attributes would answer is left unlinked: it names a dimension or a
+      bound, not one of those attributes.
+    """
 
     def find_obj(self, env, modname, classname, name, type, searchmode=0):
         matches = super().find_obj(env, modname, classname, name, type, searchmode)
         if searchmode == 1 and len(matches) > 1 and len(name) <= 2:
             return []
+        if not matches and searchmode == 0 and (name[:1].isupper() or "." in name):
+            fuzzy = super().find_obj(env, modname, classname, name, type, 1)
+            if len(fuzzy) == 1:
+                return fuzzy
         return matches
-
 
 def setup(app):
     app.add_domain(PythonDomain, override=True)
