@@ -68,6 +68,14 @@ def documented_members_by_module() -> dict[str, str]:
     return {name: documented_members(name) for name in names
             if not any(part.startswith("_") for part in name.split("."))}
 
+def _data_home(name: str, obj: object) -> str:
+    """The public module whose page documents the constant ``name`` (the same object)."""
+    for modname, members in documented_members_by_module().items():
+        if name in members.split(", ") and getattr(importlib.import_module(modname), name, None) is obj:
+            return modname
+    raise LookupError(f"setsmooth.{name} is documented in no public module")
+
+
 def _namespace_page(app) -> None:
     """Write ``api/namespace.rst``: every name of ``import setsmooth as ss``, linked to its module."""
     rows = []
@@ -83,8 +91,7 @@ def _namespace_page(app) -> None:
             kind = "class" if isinstance(obj, type) else "function"
             rows.append((name, f":py:obj:`{module}.{qualname}`", kind))
         else:                                              # a constant (a reduction pipeline)
-            home = setsmooth._EXPORTS[name].lstrip(".")
-            rows.append((name, f":py:mod:`setsmooth.{home}`", type(obj).__name__))
+            rows.append((name, f":py:data:`{_data_home(name, obj)}.{name}`", type(obj).__name__))
     lines = [
         ".. This page is written by docs/_ext/setsmooth_docs.py from setsmooth.__all__; do not edit it.",
         "",
@@ -177,7 +184,9 @@ def _gallery_pages(app) -> None:
         source = examples / f"{image.stem}.py"
         if not source.exists():
             continue
-        doc = ast.get_docstring(ast.parse(source.read_text(encoding="utf-8"))) or image.stem
+        tree = ast.parse(source.read_text(encoding="utf-8"))
+        doc = ast.get_docstring(tree) or image.stem
+        code_from = tree.body[0].end_lineno + 1 if ast.get_docstring(tree) else 1   # the docstring is above
         title, _, body = doc.partition("\n")
         lines = [
             ".. This page is written by docs/_ext/setsmooth_docs.py from the example's docstring; do not edit it.",
@@ -191,6 +200,7 @@ def _gallery_pages(app) -> None:
             "",
             f".. literalinclude:: ../../../examples/{source.name}",
             "   :language: python",
+            f"   :lines: {code_from}-",
             "",
         ]
         _write_if_changed(DOCS / "gallery" / "generated" / f"{image.stem}.rst", "\n".join(lines))
