@@ -186,3 +186,13 @@ def test_interval_hulls_refuses_a_bad_worker_count(run, workers):
     smoothed = run[4]
     with pytest.raises(ValueError, match="workers"):
         smoothed.interval_hulls(workers=workers)
+
+
+def test_the_hulls_of_many_sets_show_their_progress_on_request(capsys):
+    box = ss.Box([-1.0], [1.0])
+    system = ss.LinearSystem([[1.0]], [[1.0]], [[1.0]], [[1.0]], W=box, V=box)
+    ys = [[0.0], [0.5], [1.0]]
+    ss.classical_filter(system, ss.Box([-5.0], [5.0]), ys).interval_hulls(progress=True)
+    assert "interval hulls" in capsys.readouterr().err
+    ss.classical_filter(system, ss.Box([-5.0], [5.0]), ys).interval_hulls(progress=False)
+    assert capsys.readouterr().err == ""
