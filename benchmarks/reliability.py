@@ -46,7 +46,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from tests.reliability import compare, concurrency, rescaling, witness  # noqa: E402
 from tests.reliability.oracle import OracleError  # noqa: E402
-from tests.reliability.random_systems import REGIMES, base_case, in_regime, triangle_case  # noqa: E402
+from tests.reliability.random_systems import ALL_REGIMES, REGIMES, base_case, in_regime, triangle_case  # noqa: E402
 
 
 # -- tasks (module level: they go to worker processes) ------------------------------------------------
@@ -131,7 +131,7 @@ def system_table(results: list[compare.CaseResult], title: str, group) -> str:
              "| group | runs | runs raising (by estimator and status) | true state outside | "
              "hull off > 1e−6 rel | certified not enclosing |",
              "|---|---|---|---|---|---|"]
-    order = sorted(groups, key=lambda g: (list(REGIMES).index(g) if g in REGIMES else 99, g))
+    order = sorted(groups, key=lambda g: (list(ALL_REGIMES).index(g) if g in ALL_REGIMES else 99, g))
     total: list[compare.Outcome] = []
     for g in order:
         runs = groups[g]
@@ -212,7 +212,7 @@ def read_log(paths: list[Path]) -> tuple[list[compare.CaseResult], list[tuple]]:
                 failed[record["oracle_failed"]] = ("oracle", record["oracle_failed"], record["message"])
                 continue
             name = record["case"]
-            regime = next(r for r in REGIMES if name.endswith("-" + r))
+            regime = next(r for r in ALL_REGIMES if name.endswith("-" + r))
             _, kind, noise = name[: -len(regime) - 1].split("-")
             result = compare.CaseResult(name, kind, noise, regime, oracle_seconds=record["oracle_seconds"])
             result.outcomes = [compare.Outcome(**o) for o in record["outcomes"]]
@@ -320,7 +320,7 @@ def main(argv=None) -> None:
                     help="comma-separated subset of " + ", ".join(compare.ESTIMATORS) + " (default: all; "
                          "the recursion smoother dominates the time at T = 40)")
     ap.add_argument("--regimes", default=",".join(REGIMES),
-                    help="comma-separated subset of " + ", ".join(REGIMES) + " (default: all; one "
+                    help="comma-separated subset of " + ", ".join(ALL_REGIMES) + " (default: all; one "
                          "process per regime runs a heavy system's regimes side by side)")
     ap.add_argument("--no-concurrency", action="store_true")
     ap.add_argument("--log", type=Path, default=None, metavar="FILE",
@@ -363,8 +363,8 @@ def main(argv=None) -> None:
         ap.error(f"--estimators must name some of {', '.join(compare.ESTIMATORS)} (or be 'none'), "
                  f"got {args.estimators!r}")
     regimes = tuple(r.strip() for r in args.regimes.split(",") if r.strip())
-    if not regimes or any(r not in REGIMES for r in regimes):
-        ap.error(f"--regimes must name some of {', '.join(REGIMES)}, got {args.regimes!r}")
+    if not regimes or any(r not in ALL_REGIMES for r in regimes):
+        ap.error(f"--regimes must name some of {', '.join(ALL_REGIMES)}, got {args.regimes!r}")
 
     t0 = time.perf_counter()
     case_results, oracle_failed, witnesses, rescaled, long_runs = [], [], [], [], []
