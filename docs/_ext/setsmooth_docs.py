@@ -19,10 +19,12 @@ from pathlib import Path
 
 from sphinx.domains.python import PythonDomain as _SphinxPythonDomain
 from sphinx.pycode import ModuleAnalyzer
+from sphinx.util import logging
 
 import setsmooth
 
 DOCS = Path(__file__).resolve().parent.parent
+logger = logging.getLogger(__name__)
 
 
 def _public_home(modname: str) -> str:
@@ -227,9 +229,18 @@ class PythonDomain(_SphinxPythonDomain):
                 return fuzzy
         return matches
 
+def _check_api_index(app) -> None:
+    """Warn (an error under ``-W``) when a public module of setsmooth is missing from api/index.rst."""
+    listed = set(re.findall(r"^\s+(setsmooth\.\w+)\s*$", (DOCS / "api" / "index.rst").read_text(), re.M))
+    for info in pkgutil.iter_modules(setsmooth.__path__, "setsmooth."):
+        if not info.name.rsplit(".", 1)[-1].startswith("_") and info.name not in listed:
+            logger.warning(f"{info.name} is missing from the API reference (docs/api/index.rst)")
+
+
 def setup(app):
     app.add_domain(PythonDomain, override=True)
     app.connect("builder-inited", _namespace_page, priority=400)   # before autosummary's stubs
     app.connect("builder-inited", _gallery_pages, priority=400)
+    app.connect("builder-inited", _check_api_index, priority=400)
     app.connect("autodoc-process-docstring", adapt_docstring, priority=600)   # after napoleon
     return {"parallel_read_safe": True, "parallel_write_safe": True}
