@@ -109,7 +109,8 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
     if on_inconsistent not in ON_INCONSISTENT:
         raise ValueError(f"on_inconsistent must be one of {ON_INCONSISTENT}, got {on_inconsistent!r}")
     result = _filtered(system, X0, ys, reduce, detect_empty, form)
-    if detect_empty and on_inconsistent != "ignore" and result.first_empty is not None:
+    if detect_empty and on_inconsistent != "ignore" and len(result) \
+            and isinstance(result[-1], EmptySet):  # (empty from the first empty one on)
         report_inconsistency(first_inconsistency(system, X0, ys, result), on_inconsistent)
     return result
 

@@ -23,6 +23,7 @@ import numpy as np
 from ..results import SetEstimates
 from ..sets.algebra import linear_map, minkowski_sum
 from ..sets.base import ConvexSet
+from ..sets.empty import EmptySet
 
 __all__ = ["Inconsistency", "ModelInvalidationWarning", "ModelInvalidatedError",
            "first_inconsistency", "report_inconsistency", "ON_INCONSISTENT"]
@@ -32,7 +33,8 @@ ON_INCONSISTENT = ("warn", "raise", "ignore")
 
 
 class ModelInvalidationWarning(UserWarning):
-    """The measurements contradict the model from some step on (`Inconsistency` in ``.args[0]``)."""
+    """The measurements contradict the model from some step on (the `Inconsistency` is its
+    ``inconsistency`` attribute)."""
 
 
 class ModelInvalidatedError(ValueError):
@@ -70,6 +72,13 @@ def _predicted_outputs(system, k: int, prior: ConvexSet) -> ConvexSet:
                          linear_map(-np.eye(system.m), system.measurement_noise_image(k)))
 
 
+def _first_empty(estimates: SetEstimates) -> int | None:
+    """The first empty set's index: where the filter marked it (an `EmptySet` from there on, as
+    ``detect_empty`` does), else by the interval hulls (``first_empty``, one program per set)."""
+    marked = [k for k, S in enumerate(estimates) if isinstance(S, EmptySet)]
+    return marked[0] if marked else estimates.first_empty
+
+
 def first_inconsistency(system, X0: ConvexSet, ys: Any,
                         estimates: SetEstimates | None = None) -> Inconsistency | None:
     """The first step at which the measurements ``ys`` contradict the model, or None.
@@ -91,7 +100,7 @@ def first_inconsistency(system, X0: ConvexSet, ys: Any,
 
     if estimates is None:
         estimates = classical_filter(system, X0, ys, on_inconsistent="ignore")
-    k = estimates.first_empty
+    k = _first_empty(estimates)
     if k is None:
         return None
     y = np.asarray(estimates.ys if getattr(estimates, "ys", None) is not None else ys,
@@ -109,4 +118,6 @@ def report_inconsistency(found: Inconsistency | None, on_inconsistent: str) -> N
         return
     if on_inconsistent == "raise":
         raise ModelInvalidatedError(str(found))
-    warnings.warn(ModelInvalidationWarning(found), stacklevel=3)
+    warning = ModelInvalidationWarning(str(found))
+    warning.inconsistency = found
+    warnings.warn(warning, stacklevel=3)

@@ -34,7 +34,7 @@ def test_a_sensor_fault_is_found_at_its_step_with_its_size():
     faulty[30:] += 3.0  # a sensor offset of 3 from k = 30; the noise bound is 0.1
     with pytest.warns(ss.ModelInvalidationWarning, match=r"from k = 30") as record:
         est = ss.classical_filter(system, X0, faulty)
-    found = record[0].message.args[0]
+    found = record[0].message.inconsistency
     assert isinstance(found, ss.Inconsistency) and found.step == est.first_empty == 30
     assert np.array_equal(found.measurement, faulty[30])
     # the offset minus what the predicted output set can absorb: positive, at most the offset
