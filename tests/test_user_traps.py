@@ -125,6 +125,10 @@ def plant():
     lambda P: ss.classical_filter(P, X0, np.zeros((3, 1))),
     lambda P: ss.optimal_smoother(P, X0, np.zeros((3, 1))),
     lambda P: ss.simulate(P, X0, 3, 0),
+    lambda P: ss.oit_cz_filter(P, X0, np.zeros((3, 1))),
+    lambda P: ss.oit_inspired_filter(P, X0, np.zeros((3, 1))),
+    lambda P: ss.trajectory_set(P, X0, np.zeros((3, 1))),
+    lambda P: ss.filtering_map(P, X0, np.zeros((3, 1)), 0, 2),
 ])
 def test_a_statespace_where_a_system_is_expected_leads_to_from_statespace(plant, call):
     with pytest.raises(TypeError, match=r"system is a control\.StateSpace.*LinearSystem\.from_statespace"):

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_measurements
+from .._validation import as_measurements, check_system
 from ..sets.algebra import cartesian_product, linear_map
 from ..sets.box import Box
 from ..sets.base import ConvexSet
@@ -106,6 +106,7 @@ def oit_inspired_filter(system, X0: ConvexSet, ys: Any, *, delta: int | None = N
     ValueError
         If ``delta`` < k_*, the system is time varying, or no θ ≤ 2⁶⁰ gives a non-empty reset.
     """
+    check_system(system)
     ys = as_measurements(ys, system.m)
     _check_state_set(X0, "X0", system.n)
     st = _structure(system, decomposition)
@@ -178,6 +179,7 @@ def oit_cz_filter(system, X0: ConvexSet, ys: Any, *, delta_bar: int | None = Non
     >>> len(res.estimates), all(Z.contains(x) for Z, x in zip(res.estimates[2:], xs[2:]))
     (9, True)
     """
+    check_system(system)
     from .oit_cz import run_oit_cz
 
     ys = as_measurements(ys, system.m)

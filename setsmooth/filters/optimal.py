@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from .._validation import as_measurements
+from .._validation import as_measurements, check_system
 from ..models.related_noise import JointRange
 from ..sets import rounding
 from ..sets.algebra import cartesian_product
@@ -86,6 +86,7 @@ def joint_trajectory_set(system, joint_range: JointRange, ys: Any, stop: int | N
     >>> Z.dim, round(Z.support([0.0, 0.0, 1.0]), 6)   # (x_0, x_1, x_2); x_2 ≤ y_2 + 1
     (3, 1.0)
     """
+    check_system(system)
     ys, stop = _check(system, joint_range, ys, stop)
     cz = joint_range.set._flat_cz
     if cz is None:
@@ -133,6 +134,7 @@ def optimal_filter(system, joint_range: JointRange, ys: Any, *, detect_empty: bo
     >>> round(optimal[4].area(), 3), round(classical[4].area(), 3)     # Theorem 3: optimal ⊆ classical
     (4.215, 5.375)
     """
+    check_system(system)
     ys = as_measurements(ys, system.m)
     _check(system, joint_range, ys, None)
     n = system.n
@@ -169,6 +171,7 @@ def optimal_joint_smoother(system, joint_range: JointRange, ys: Any) -> list[Con
     ValueError
         As `joint_trajectory_set`.
     """
+    check_system(system)
     trajectories = joint_trajectory_set(system, joint_range, ys)
     n = system.n
     steps = trajectories.dim // n

@@ -39,7 +39,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from .._validation import as_measurements
+from .._validation import as_measurements, check_system
 from ..sets.base import ConvexSet
 from ..sets import rounding
 from ..sets.constrained_zonotope import ConstrainedZonotope
@@ -91,6 +91,7 @@ def trajectory_set(system, prior: ConvexSet, ys: Any, start: int = 0,
     >>> round(Z.support([0.0, 0.0, 1.0]), 6)   # x_2 ≤ y_2 + 1
     2.0
     """
+    check_system(system)
     ys = as_measurements(ys, system.m)
     if not isinstance(prior, ConvexSet) or prior.dim != system.n:
         raise ValueError(f"prior must be a ConvexSet of dimension n = {system.n}, got "
@@ -142,6 +143,7 @@ def filtering_map(system, prior: ConvexSet, ys: Any, i: int, k: int) -> ConvexSe
     >>> (hull.lo.round(6) + 0.0).tolist(), (hull.hi.round(6) + 0.0).tolist()   # + 0.0: no −0.0
     ([0.0], [2.0])
     """
+    check_system(system)
     traj = trajectory_set(system, prior, ys, i, k)
     n = system.n
     return traj.project(range(traj.dim - n, traj.dim))
