@@ -11,6 +11,8 @@ certified enclosing it to 1e-9 and within 1e-6.
 Record a new incident (computes the oracle's answer; run from the repository's root):
 
     PYTHONPATH=. python -m tests.reliability.replay 184 scale1e+03 recursion 17 "what happened"
+
+(``all`` instead of the step stores every set of the estimator.)
 """
 
 from __future__ import annotations
@@ -33,12 +35,13 @@ ESTIMATORS = ("filter", "trajectory", "recursion")
 
 @dataclass(frozen=True)
 class Incident:
-    """One corpus entry: the set ``estimator``[k] of reliability case ``index`` in ``regime``."""
+    """One corpus entry: the set ``estimator``[k] of reliability case ``index`` in ``regime`` (every
+    set of the estimator when ``k`` is None; ``lo``, ``hi`` then have one row per set)."""
 
     index: int
     regime: str
     estimator: str
-    k: int
+    k: int | None
     history: str
     lo: np.ndarray
     hi: np.ndarray
@@ -46,10 +49,12 @@ class Incident:
     seed: int = 2026
     T_range: tuple[int, int] = (10, 40)
     n_range: tuple[int, int] = (2, 6)
+    cap_singular_radius: bool = True
 
     @property
     def name(self) -> str:
-        return f"case{self.index:03d}_{self.regime}_{self.estimator}_k{self.k}"
+        at = "all" if self.k is None else f"k{self.k}"
+        return f"case{self.index:03d}_{self.regime}_{self.estimator}_{at}"
 
     @property
     def unit(self) -> np.ndarray:
@@ -58,7 +63,8 @@ class Incident:
 
     def case(self):
         return in_regime(base_case(self.seed, self.index, T_range=self.T_range,
-                                   n_range=self.n_range), self.regime)
+                                   n_range=self.n_range,
+                                   cap_singular_radius=self.cap_singular_radius), self.regime)
 
 
 def load(path: Path) -> Incident:
@@ -67,7 +73,8 @@ def load(path: Path) -> Incident:
                     k=data["k"], history=data["history"], lo=np.array(data["lo"], dtype=float),
                     hi=np.array(data["hi"], dtype=float), sigma=float(data["sigma"]),
                     seed=data["seed"], T_range=tuple(data["T_range"]),
-                    n_range=tuple(data["n_range"]))
+                    n_range=tuple(data["n_range"]),
+                    cap_singular_radius=data.get("cap_singular_radius", True))
 
 
 def corpus() -> list[Path]:
@@ -81,23 +88,37 @@ def estimate(case, estimator: str):
     return ss.optimal_smoother(case.system, case.X0, case.ys, method=estimator)
 
 
-def replay(incident: Incident) -> tuple[ss.Box, ss.Box]:
-    """(plain, certified) interval hulls of the incident's set, computed by the library."""
-    S = estimate(incident.case(), incident.estimator)[incident.k]
-    return S.interval_hull(certified=False), S.interval_hull(certified=True)
+def replay(incident: Incident) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(plain lo, plain hi, certified lo, certified hi) of the incident's set (or every set, rows),
+    computed by the library."""
+    sets = estimate(incident.case(), incident.estimator)
+    chosen = list(sets) if incident.k is None else [sets[incident.k]]
+    plain = [S.interval_hull(certified=False) for S in chosen]
+    cert = [S.interval_hull(certified=True) for S in chosen]
+    out = [np.array([getattr(H, side) for H in hulls]) for hulls in (plain, cert)
+           for side in ("lo", "hi")]
+    if incident.k is not None:
+        out = [a[0] for a in out]
+    return tuple(out)
 
 
-def record(index: int, regime: str, estimator: str, k: int, history: str, **case_kwargs) -> Path:
-    """Compute the exact hull by the oracle and write the incident's file."""
+def record(index: int, regime: str, estimator: str, k: int | None, history: str,
+           **case_kwargs) -> Path:
+    """Compute the exact hull (every set's when ``k`` is None) by the oracle and write the file."""
     if estimator not in ESTIMATORS:
         raise ValueError(f"estimator must be one of {ESTIMATORS}, got {estimator!r}")
     draft = Incident(index, regime, estimator, k, history, np.zeros(0), np.zeros(0), 0.0,
                      **case_kwargs)
     case = draft.case()
     oracle = TrajectoryOracle(case.system, case.X0, case.ys)
-    lo, hi = oracle.hull(k, upto=k if estimator == "filter" else None)
+    steps = range(case.T + 1) if k is None else [k]
+    hulls = [oracle.hull(j, upto=j if estimator == "filter" else None) for j in steps]
+    lo, hi = np.array([h[0] for h in hulls]), np.array([h[1] for h in hulls])
+    if k is not None:
+        lo, hi = lo[0], hi[0]
     data = {"index": index, "regime": regime, "estimator": estimator, "k": k, "history": history,
             "seed": draft.seed, "T_range": list(draft.T_range), "n_range": list(draft.n_range),
+            "cap_singular_radius": draft.cap_singular_radius,
             "sigma": data_scale(case.system, case.X0), "lo": lo.tolist(), "hi": hi.tolist()}
     CASES.mkdir(exist_ok=True)
     path = CASES / f"{draft.name}.json"
@@ -107,4 +128,4 @@ def record(index: int, regime: str, estimator: str, k: int, history: str, **case
 
 if __name__ == "__main__":
     index, regime, estimator, k, history = sys.argv[1:6]
-    print(record(int(index), regime, estimator, int(k), history))
+    print(record(int(index), regime, estimator, None if k == "all" else int(k), history))
