@@ -113,6 +113,14 @@ def test_the_command_writes_the_json_the_table_and_the_figure(tmp_path, capsys):
     assert "| example31 | oit_cz | 1 |" in capsys.readouterr().out
 
 
+def test_the_command_fails_when_an_estimator_is_unsound(tmp_path, capsys, registered):
+    status = cli.main(["arena", "--problems", "example31", "--estimators", "shrunk_1pct",
+                       "--runs", "1", "--horizon", "3", "--out", str(tmp_path), "--no-progress",
+                       "--workers", "1"])
+    assert status == 1
+    assert "unsound: shrunk_1pct on example31" in capsys.readouterr().err
+
+
 def test_a_row_does_not_depend_on_the_other_problems_chosen():
     """Each problem's data come from a generator keyed by its name: adding a problem changes no row."""
     alone = arena.run_arena(["cz_noise"], ["reduced_girard"], runs=1, seed=2, horizon=3,

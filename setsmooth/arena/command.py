@@ -20,7 +20,7 @@ Carlo runs. Per (problem, estimator): true states outside the estimator's interv
 hulls contain the exact estimator's (the exact filter for filters, the trajectory smoother for
 smoothers), the mean hull radius, the hull volume over the exact one's, and CPU time per step
 (estimator plus hulls). Writes DIR/arena.json, DIR/arena.md and DIR/arena.png (tightness against time,
-unsound entries in red) and prints the table.
+unsound entries in red) and prints the table. The exit status is 1 when an entry is unsound.
 
 Heavy problems (long_horizon) run only when named. Register your own estimator from Python with
 setsmooth.arena.register(name, fn) and call setsmooth.arena.run_arena, or see
@@ -112,4 +112,5 @@ def run(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     unsound = result.unsound()
     if unsound:
         print("setsmooth arena: unsound: " + ", ".join(f"{e} on {p}" for p, e in unsound), file=sys.stderr)
+        return 1  # a script or CI job running the arena fails on an unsound estimator
     return 0
