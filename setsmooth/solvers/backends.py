@@ -29,7 +29,7 @@ from . import clarabel_lp
 from .clarabel_lp import _index_type, _zero_cost
 from .highs import interior_point, simplex_cold
 from .instances import cached_instance
-from .warm_simplex import simplex
+from .warm_simplex import checked_simplex
 
 __all__ = ["Answer", "STATUSES", "BACKENDS", "Backend", "box_rows", "classify"]
 
@@ -53,12 +53,16 @@ class Answer:
         Multipliers of the rows Âη = b̂ in Clarabel's convention (q + Âᵀz = 0 on free factors).
     detail : str
         The backend's own status name.
+    checked : float or None
+        The backend's own `Presolved.checked_gap` of this answer, when it computed one (inf: the
+        check failed); None when the caller is to check it.
     """
 
     status: str
     eta: np.ndarray
     z: np.ndarray
     detail: str
+    checked: float | None = None
 
 
 Backend = Callable[..., Answer]
@@ -134,8 +138,11 @@ def clarabel_refined(pre, q: np.ndarray, batch: object = None) -> Answer:
 
 
 def highs_simplex(pre, q: np.ndarray, batch: object = None) -> Answer:
-    """'simplex': HiGHS's simplex method warm-started along ``batch``."""
-    return classify(*simplex(pre, q, batch), pre.A.shape[0])
+    """'simplex': HiGHS's simplex method warm-started along ``batch`` (its answer already checked)."""
+    name, eta, z, gap = checked_simplex(pre, q, batch)
+    answer = classify(name, eta, z, pre.A.shape[0])
+    return Answer(answer.status, answer.eta, answer.z, answer.detail,
+                  gap if answer.status == "candidate" else None)
 
 
 def highs_simplex_cold(pre, q: np.ndarray, batch: object = None) -> Answer:

@@ -213,8 +213,12 @@ class Search:
         self.rough = Maximized("unverified", result.xi, result.lam)  # any λ certifies a bound
         if answer.status not in ("solved", "candidate") or leak > tol.REDUCED_COST_TOL:
             return None
-        gap = 0.0 if answer.status == "solved" else pre.checked_gap(self.objective[1], answer.eta,
-                                                                    answer.z)
+        if answer.status == "solved":
+            gap = 0.0
+        elif answer.checked is not None:  # the backend checked it already (inf: it failed)
+            gap = None if np.isinf(answer.checked) else answer.checked
+        else:
+            gap = pre.checked_gap(self.objective[1], answer.eta, answer.z)
         if gap is None:
             return None
         if gap <= tol.ACCURATE_GAP_TOL:

@@ -25,7 +25,7 @@ from .. import tolerances as tol
 from .highs import (_DUAL, _PRIMAL, SIMPLEX_TOLERANCES, factor_model, rung_caps, set_rung,
                     settled_point, verdict)
 
-__all__ = ["WarmSimplex", "simplex", "WARM_MODEL_KEY"]
+__all__ = ["WarmSimplex", "simplex", "checked_simplex", "WARM_MODEL_KEY"]
 
 #: The key of a program's warm model in the per-thread instance cache.
 WARM_MODEL_KEY = "warm simplex"
@@ -159,6 +159,13 @@ def simplex(pre, q: np.ndarray, batch: object) -> tuple[str, np.ndarray, np.ndar
     the primal answer fails `Presolved.checked_gap` at ``ACCURATE_GAP_TOL`` (on ill-conditioned
     programs the primal method's duals can be loose: gaps of 2.7e-7 to 8e-7 on 4 of 8 objectives of
     the test suite's cycling program, where the dual method's are below 3e-9)."""
+    return checked_simplex(pre, q, batch)[:3]
+
+
+def checked_simplex(pre, q: np.ndarray, batch: object
+                    ) -> tuple[str, np.ndarray, np.ndarray, float]:
+    """`simplex` and the answer's `Presolved.checked_gap` (inf when it is not an optimum or fails
+    the check), so that the caller need not check it again."""
     from .instances import cached_instance
 
     model = cached_instance(pre, WARM_MODEL_KEY, lambda: WarmSimplex(pre.A, pre.b, pre.bounded))
@@ -166,9 +173,10 @@ def simplex(pre, q: np.ndarray, batch: object) -> tuple[str, np.ndarray, np.ndar
     gap = _gap_or_inf(pre, q, answer)
     if gap > tol.ACCURATE_GAP_TOL and model.answered_by_primal:
         again = model.minimize(q, batch, dual=True)
-        if _gap_or_inf(pre, q, again) < gap or np.isinf(gap):
-            answer = again
-    return answer
+        again_gap = _gap_or_inf(pre, q, again)
+        if again_gap < gap or np.isinf(gap):
+            answer, gap = again, again_gap
+    return (*answer, gap)
 
 
 def _gap_or_inf(pre, q: np.ndarray, answer: tuple) -> float:
