@@ -36,7 +36,7 @@ CASES = ((43, "scale1e-06", "recursion"), (45, "scale1", "recursion"), (0, "scal
 
 def _bracketed(first: str, second: str) -> dict:
     """The policy table with the bracketed purpose (all factors bounded) asking ``first`` first."""
-    return {**POLICIES, ("bracketed", False): (Attempt(first), Attempt(second)) + FALLBACKS}
+    return {**POLICIES, "bracketed": (Attempt(first), Attempt(second)) + FALLBACKS}
 
 
 ORDERS = {"interior": {"POLICIES": _bracketed("clarabel", "simplex")},

@@ -21,7 +21,6 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import tolerances as tol
-from .backends import BACKENDS
 from .clarabel_lp import _csc
 from .maximization import Maximized, Search
 from .phase_one import decide_empty, relaxed_point
@@ -216,8 +215,7 @@ class FactorConstraints:
         else:
             magnitude = np.abs(g)
         kept = self.presolved
-        search = Search(self, g, magnitude, context, tight=tight, batch=batch,
-                        backends=BACKENDS if backends is None else backends)
+        search = Search(self, g, magnitude, context, tight=tight, batch=batch, backends=backends)
         return search.run(policy(kept, purpose), kept, unverified=unverified, kind=kind)
 
     def relaxed(self, pre: Presolved, q: np.ndarray, sigma: float, lam0: np.ndarray) -> Maximized:

@@ -47,16 +47,14 @@ class Attempt:
 #: method met a singular basis on every rung and Clarabel a 'NumericalError', where it settled).
 FALLBACKS = (Attempt("clarabel refined", True), Attempt("simplex", True), Attempt("interior"))
 
-#: The attempts by (purpose, whether the program has free factors).
-POLICIES: dict[tuple[str, bool], tuple[Attempt, ...]] = {
-    ("plain", False): (Attempt("clarabel"), Attempt("clarabel refined")) + FALLBACKS,
-    ("plain", True): (Attempt("clarabel"), Attempt("clarabel refined")) + FALLBACKS,
-    ("bracketed", False): (Attempt("simplex"), Attempt("clarabel")) + FALLBACKS,
-    ("bracketed", True): (Attempt("clarabel"), Attempt("simplex")) + FALLBACKS,
-    ("escalated", False): (Attempt("simplex cold"), Attempt("clarabel refined"),
-                           Attempt("clarabel refined", True), Attempt("interior")),
-    ("escalated", True): (Attempt("simplex cold"), Attempt("clarabel refined"),
-                          Attempt("clarabel refined", True), Attempt("interior")),
+#: The attempts by policy name: the purpose, and for a bracketed program with free factors
+#: 'bracketed free' (the only purpose whose order depends on the program).
+POLICIES: dict[str, tuple[Attempt, ...]] = {
+    "plain": (Attempt("clarabel"), Attempt("clarabel refined")) + FALLBACKS,
+    "bracketed": (Attempt("simplex"), Attempt("clarabel")) + FALLBACKS,
+    "bracketed free": (Attempt("clarabel"), Attempt("simplex")) + FALLBACKS,
+    "escalated": (Attempt("simplex cold"), Attempt("clarabel refined"),
+                  Attempt("clarabel refined", True), Attempt("interior")),
 }
 
 PURPOSES = ("plain", "bracketed", "escalated")
@@ -74,4 +72,4 @@ def policy(program, purpose: str) -> tuple[Attempt, ...]:
     """
     if purpose not in PURPOSES:
         raise ValueError(f"purpose must be one of {PURPOSES}, got {purpose!r}")
-    return POLICIES[purpose, bool(program.has_free)]
+    return POLICIES["bracketed free" if purpose == "bracketed" and program.has_free else purpose]

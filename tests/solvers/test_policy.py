@@ -61,7 +61,7 @@ def test_the_policy_is_data_a_function_of_the_purpose_and_the_programs_structure
     pre = F.presolved
     for purpose in PURPOSES:
         attempts = policy(pre, purpose)
-        assert attempts == POLICIES[purpose, False]
+        assert attempts == POLICIES[purpose]
         assert all(isinstance(a, Attempt) and a.backend in BACKENDS for a in attempts)
         assert attempts[-1] == Attempt("interior")  # HiGHS's interior-point method last
     assert policy(pre, "bracketed")[0] == Attempt("simplex")

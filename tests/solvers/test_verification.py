@@ -28,8 +28,8 @@ INTERIOR_FIRST = (policy.Attempt("clarabel"), policy.Attempt("simplex")) + polic
 
 
 def interior_first(monkeypatch) -> None:
-    for free in (False, True):
-        monkeypatch.setitem(policy.POLICIES, ("bracketed", free), INTERIOR_FIRST)
+    for name in ("bracketed", "bracketed free"):
+        monkeypatch.setitem(policy.POLICIES, name, INTERIOR_FIRST)
 
 
 def exact_hull(Z: ss.ConstrainedZonotope) -> tuple[np.ndarray, np.ndarray]:
