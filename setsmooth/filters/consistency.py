@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from .._validation import as_measurements, check_system
 from ..results import SetEstimates
 from ..sets.algebra import linear_map, minkowski_sum
 from ..sets.base import ConvexSet
@@ -98,13 +99,16 @@ def first_inconsistency(system, X0: ConvexSet, ys: Any,
     """
     from .classical import _predict, classical_filter
 
+    ys = as_measurements(ys, check_system(system).m)
     if estimates is None:
         estimates = classical_filter(system, X0, ys, on_inconsistent="ignore")
+    elif len(estimates) != len(ys):
+        raise ValueError(f"estimates has {len(estimates)} sets but ys has {len(ys)} measurements: "
+                         "they must be the filter's sets on these data")
     k = _first_empty(estimates)
     if k is None:
         return None
-    y = np.asarray(estimates.ys if getattr(estimates, "ys", None) is not None else ys,
-                   dtype=float)[k]
+    y = ys[k]
     prior = X0 if k == 0 else _predict(system, k - 1, estimates[k - 1])
     closest = _predicted_outputs(system, k, prior).center(method="closest", reference=y,
                                                            norm=np.inf)

@@ -59,3 +59,10 @@ def test_on_inconsistent_is_checked_at_the_door():
     system, X0, _, ys = _plant(T=3)
     with pytest.raises(ValueError, match="on_inconsistent"):
         ss.classical_filter(system, X0, ys, on_inconsistent="loud")
+
+
+def test_estimates_of_other_data_are_refused():
+    system, X0, _, ys = _plant(T=4)
+    est = ss.classical_filter(system, X0, ys)
+    with pytest.raises(ValueError, match="estimates has 5 sets but ys has 4"):
+        ss.first_inconsistency(system, X0, ys[:4], est)
