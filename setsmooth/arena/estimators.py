@@ -120,6 +120,20 @@ def register(name: str, fn: Callable[..., Any], *, kind: str = "filtered", summa
     return estimator
 
 
+def chosen_names(names: Any, choices: dict, default: list[str], argument: str, kind: str
+                 ) -> list[str]:
+    """``names`` (a name or a sequence of names; None: ``default``) without repeats, each a key of
+    ``choices``; a ValueError naming ``argument`` and the valid choices otherwise."""
+    if names is None:
+        return default
+    names = list(dict.fromkeys([names] if isinstance(names, str) else names))
+    unknown = [name for name in names if name not in choices]
+    if unknown or not names:
+        what = f"unknown {kind} {', '.join(map(repr, unknown))}" if unknown else f"no {kind} given"
+        raise ValueError(f"{argument}: {what}; choose from {', '.join(choices)}")
+    return names
+
+
 def unregister(name: str) -> None:
     """Remove a registered estimator (a built-in one too)."""
     check_estimators([name], "name")
@@ -134,16 +148,7 @@ def check_estimators(names: Any, argument: str = "estimators") -> list[str]:
     ValueError
         For an unknown name, naming ``argument`` and the valid choices.
     """
-    if names is None:
-        return list(ESTIMATORS)
-    if isinstance(names, str):
-        names = [names]
-    names = list(dict.fromkeys(names))
-    unknown = [name for name in names if name not in ESTIMATORS]
-    if unknown or not names:
-        what = f"unknown estimator {', '.join(map(repr, unknown))}" if unknown else "no estimator given"
-        raise ValueError(f"{argument}: {what}; choose from {', '.join(ESTIMATORS)}")
-    return names
+    return chosen_names(names, ESTIMATORS, list(ESTIMATORS), argument, "estimator")
 
 
 def hull_tubes(estimates: Any) -> tuple[np.ndarray, np.ndarray]:

@@ -24,6 +24,7 @@ from ..papers.smoothing_examples import smoothing_example_31, smoothing_example_
 from ..sets.base import ConvexSet
 from ..sets.box import Box
 from ..sets.constrained_zonotope import ConstrainedZonotope
+from .estimators import chosen_names
 
 __all__ = ["Problem", "ProblemSpec", "PROBLEMS", "make_problem", "problem_names", "check_problems"]
 
@@ -132,18 +133,7 @@ def check_problems(names: Any, argument: str = "problems") -> list[str]:
     ValueError
         For an unknown name, naming ``argument`` and the valid choices.
     """
-    if names is None:
-        return problem_names()
-    if isinstance(names, str):
-        names = [names]
-    names = list(dict.fromkeys(names))
-    unknown = [name for name in names if name not in PROBLEMS]
-    if unknown:
-        raise ValueError(f"{argument}: unknown problem {', '.join(map(repr, unknown))}; "
-                         f"choose from {', '.join(PROBLEMS)}")
-    if not names:
-        raise ValueError(f"{argument}: no problem given; choose from {', '.join(PROBLEMS)}")
-    return names
+    return chosen_names(names, PROBLEMS, problem_names(), argument, "problem")
 
 
 def make_problem(name: str, rng: Any, horizon: int | None = None) -> Problem:
