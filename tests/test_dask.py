@@ -145,3 +145,16 @@ def test_progress_bar_advances_to_the_last_run_on_a_cluster(client, capsys):
     run(draw, 30, seed=1, executor=client, progress=True)
     err = capsys.readouterr().err
     assert "30/30" in err and "Monte Carlo" in err
+
+
+def test_the_commands_report_an_unreachable_scheduler_with_status_2(monkeypatch, capsys):
+    from setsmooth.runs import dask_cluster
+
+    assert dask_cluster.scheduler_client(None, "setsmooth figures") == (None, 0)
+
+    def refused(address):
+        raise OSError(f"Timed out trying to connect to {address}")
+
+    monkeypatch.setattr(dask_cluster, "connect", refused)
+    assert dask_cluster.scheduler_client("tcp://nowhere:1", "setsmooth arena") == (None, 2)
+    assert "setsmooth arena: --scheduler tcp://nowhere:1: Timed out" in capsys.readouterr().err

@@ -89,15 +89,11 @@ def run(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     from .runner import run_arena
 
     start = time.perf_counter()
-    client = None
-    if args.scheduler is not None:
-        from ..runs.dask_cluster import connect
+    from ..runs.dask_cluster import scheduler_client
 
-        try:
-            client = connect(args.scheduler)
-        except (ImportError, OSError) as exc:
-            print(f"setsmooth arena: --scheduler {args.scheduler}: {exc}", file=sys.stderr)
-            return 2
+    client, status = scheduler_client(args.scheduler, "setsmooth arena")
+    if status:
+        return status
     try:
         result = run_arena(problems, estimators, args.runs, args.seed, horizon=args.horizon,
                            executor=client, workers=args.workers, progress=not args.no_progress,

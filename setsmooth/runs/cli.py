@@ -261,15 +261,11 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     out = (args.out or figures_dir / "out").resolve()
     start = time.perf_counter()
-    client = None
-    if args.scheduler is not None:
-        from .dask_cluster import connect
+    from .dask_cluster import scheduler_client
 
-        try:
-            client = connect(args.scheduler)
-        except (ImportError, OSError) as exc:
-            print(f"setsmooth figures: --scheduler {args.scheduler}: {exc}", file=sys.stderr)
-            return 2
+    client, status = scheduler_client(args.scheduler, "setsmooth figures")
+    if status:
+        return status
     try:
         outcome, report = run_figures(names, figures_dir, out, args.runs, args.seed, args.workers,
                                       not args.no_progress, executor=client, formats=formats,

@@ -14,6 +14,7 @@ counted twice.
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable
 from typing import Any
 
@@ -87,3 +88,16 @@ def connect(address: str) -> Any:
         raise ImportError("running on a Dask scheduler needs dask.distributed: "
                           "pip install 'setsmooth[dask]'") from exc
     return Client(address)
+
+
+def scheduler_client(address: str | None, command: str) -> tuple[Any, int]:
+    """The command line's door to a scheduler: (a client of the scheduler at ``address``, or None
+    without an address, and exit status 0), or (None, 2) after telling standard error, in the name
+    of ``command``, why the scheduler could not be reached."""
+    if address is None:
+        return None, 0
+    try:
+        return connect(address), 0
+    except (ImportError, OSError) as exc:
+        print(f"{command}: --scheduler {address}: {exc}", file=sys.stderr)
+        return None, 2
