@@ -68,8 +68,10 @@ class Answer:
 Backend = Callable[..., Answer]
 
 
-def classify(name: str, eta: np.ndarray, z: np.ndarray, m: int) -> Answer:
-    """The `Answer` of a status name in Clarabel's vocabulary (HiGHS's are mapped onto it)."""
+def classify(name: str, eta: np.ndarray, z: np.ndarray, m: int,
+             checked: float | None = None) -> Answer:
+    """The `Answer` of a status name in Clarabel's vocabulary (HiGHS's are mapped onto it);
+    ``checked``, the backend's own gap check, is kept for a candidate only."""
     if name == "Solved":
         status = "solved"
     elif name == "AlmostSolved":
@@ -80,7 +82,8 @@ def classify(name: str, eta: np.ndarray, z: np.ndarray, m: int) -> Answer:
         status = "unbounded"
     else:
         status = "unsettled"
-    return Answer(status, np.asarray(eta), np.asarray(z)[:m], name)
+    return Answer(status, np.asarray(eta), np.asarray(z)[:m], name,
+                  checked if status == "candidate" else None)
 
 
 def box_rows(pre) -> tuple[sp.csc_matrix, np.ndarray, list]:
@@ -140,9 +143,7 @@ def clarabel_refined(pre, q: np.ndarray, batch: object = None) -> Answer:
 def highs_simplex(pre, q: np.ndarray, batch: object = None) -> Answer:
     """'simplex': HiGHS's simplex method warm-started along ``batch`` (its answer already checked)."""
     name, eta, z, gap = checked_simplex(pre, q, batch)
-    answer = classify(name, eta, z, pre.A.shape[0])
-    return Answer(answer.status, answer.eta, answer.z, answer.detail,
-                  gap if answer.status == "candidate" else None)
+    return classify(name, eta, z, pre.A.shape[0], gap)
 
 
 def highs_simplex_cold(pre, q: np.ndarray, batch: object = None) -> Answer:
