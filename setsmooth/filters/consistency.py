@@ -7,6 +7,9 @@ measurement y_k lies outside the output set predicted from the data before it,
 
     O_k = C_k P_k + D_k V,    P_k = A_{k−1} ⟦x_{k−1} | y_{0:k−1}⟧ + B_{k−1} W (+ u_{k−1}),  P_0 = X0,
 
+(P_k the prediction (3) of the stability paper's Algorithm 1; the update (4) intersects it with the
+states whose output can be y_k, empty exactly when y_k ∉ O_k),
+
 and `first_inconsistency` reports k, y_k and its ∞-norm distance from O_k. That distance is the
 closest-point program's value (`ConvexSet.center(method='closest')`), a measure of how far the data
 miss, not a certified bound; the verdict itself is the filter's certified emptiness decision.
@@ -82,7 +85,8 @@ def _first_empty(estimates: SetEstimates) -> int | None:
 
 def first_inconsistency(system, X0: ConvexSet, ys: Any,
                         estimates: SetEstimates | None = None) -> Inconsistency | None:
-    """The first step at which the measurements ``ys`` contradict the model, or None.
+    """The first step at which the measurements ``ys`` contradict the model, or None: the first
+    empty posterior of Algorithm 1 (stability paper (3)–(4)) and y_k's distance from O_k.
 
     Parameters
     ----------
