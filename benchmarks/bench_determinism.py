@@ -1,6 +1,6 @@
 """The same answers, bit for bit, alone and beside a CPU-heavy competing load.
 
-A subset of the reliability cases (`tests/reliability/random_systems.py`, seed 2026) is run in a fresh
+A subset of the reliability cases (`setsmooth/reliability/random_systems.py`, seed 2026) is run in a fresh
 process twice: once alone, once while ``--burners`` processes spin on every core. Each run computes
 the plain and the certified interval hulls of every set of the filter, the trajectory smoother and
 the recursion smoother, and prints a SHA-256 of all their endpoints (the exact bytes). No answer of
@@ -31,7 +31,7 @@ REGIMES = ("scale1", "scale1e-06", "scale1e+03", "offset1e+06")
 def digest(cases: list[int]) -> tuple[str, float, int]:
     """(SHA-256 of every hull endpoint, CPU seconds, number of hulls) of the subset."""
     from benchmarks.side_by_side import hulls
-    from tests.reliability.random_systems import base_case, in_regime
+    from setsmooth.reliability.random_systems import base_case, in_regime
 
     start = time.process_time()
     h = hashlib.sha256()

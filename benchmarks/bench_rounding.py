@@ -23,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import setsmooth as ss  # noqa: E402
 from setsmooth.sets import rounding  # noqa: E402
-from tests.reliability.random_systems import base_case, in_regime  # noqa: E402
+from setsmooth.reliability.random_systems import base_case, in_regime  # noqa: E402
 
 
 @contextlib.contextmanager

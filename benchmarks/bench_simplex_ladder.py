@@ -35,8 +35,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from setsmooth.solvers import highs, warm_simplex  # noqa: E402
 from setsmooth.solvers.backends import BACKENDS  # noqa: E402
 from benchmarks.side_by_side import hulls as estimator_hulls  # noqa: E402
-from tests.reliability.oracle import data_scale  # noqa: E402
-from tests.reliability.random_systems import base_case, in_regime  # noqa: E402
+from setsmooth.reliability.oracle import data_scale  # noqa: E402
+from setsmooth.reliability.random_systems import base_case, in_regime  # noqa: E402
 
 #: (reliability index, horizon T, regime): case 000 at T = 20 is where the tight rung cycled; 029
 #: and 018 (CZ noises) are where the fallback's solves are largest.

@@ -13,10 +13,10 @@ finishes (a run that is killed keeps what it measured); the failing cases are al
 after the tables. ``--from-log FILE`` prints the tables of such logs (several files add up) without
 running anything. ``--estimators none`` runs only the rescalings and the witness check.
 
-* N seeded random systems (`tests/reliability/random_systems.py`: five kinds, n = 2..6, p, m = 1..3,
+* N seeded random systems (`setsmooth/reliability/random_systems.py`: five kinds, n = 2..6, p, m = 1..3,
   box and CZ noises, T = 10..40), each in the four regimes (noise scale 1, 1e-6, 1e3; state offset
   1e6), × the three estimators (filter, recursion smoother, trajectory smoother), hulls plain and
-  certified, scored against the trajectory-LP oracle (`tests/reliability/compare.py` says exactly what
+  certified, scored against the trajectory-LP oracle (`setsmooth/reliability/compare.py` says exactly what
   counts);
 * R rescaled random CZs (1e±12 scalings of rows, factors, coordinates) on the fast and generic paths;
 * the witness check (certified supports of the trajectory smoother vs feasible points) on the first K
@@ -44,9 +44,9 @@ from tqdm import tqdm
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from tests.reliability import compare, concurrency, rescaling, witness  # noqa: E402
-from tests.reliability.oracle import OracleError  # noqa: E402
-from tests.reliability.random_systems import ALL_REGIMES, REGIMES, base_case, in_regime, triangle_case  # noqa: E402
+from setsmooth.reliability import compare, concurrency, rescaling, witness  # noqa: E402
+from setsmooth.reliability.oracle import OracleError  # noqa: E402
+from setsmooth.reliability.random_systems import ALL_REGIMES, REGIMES, base_case, in_regime, triangle_case  # noqa: E402
 
 
 # -- tasks (module level: they go to worker processes) ------------------------------------------------

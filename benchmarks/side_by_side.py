@@ -2,7 +2,7 @@
 (the shared loop of ``bench_bracketed_order.py`` and ``bench_warm_simplex.py``).
 
 Each case computes the plain and certified interval hulls of every set of one estimator on one
-reliability case (`tests/reliability/random_systems.py`, seed 2026). The table gives the median
+reliability case (`setsmooth/reliability/random_systems.py`, seed 2026). The table gives the median
 process CPU seconds of each configuration, the ratio second/first, and the largest difference
 between the two configurations' hull endpoints relative to the hull width plus the noise scale
 (issue 7 demands 1e-6 against the exact hull).
@@ -22,8 +22,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import setsmooth as ss  # noqa: E402
-from tests.reliability.oracle import data_scale  # noqa: E402
-from tests.reliability.random_systems import base_case, in_regime  # noqa: E402
+from setsmooth.reliability.oracle import data_scale  # noqa: E402
+from setsmooth.reliability.random_systems import base_case, in_regime  # noqa: E402
 
 
 def hulls(case, estimator: str) -> np.ndarray:

@@ -26,8 +26,8 @@ import numpy as np
 
 import setsmooth as ss
 
-from .oracle import TrajectoryOracle, data_scale
-from .random_systems import base_case, in_regime
+from setsmooth.reliability.oracle import TrajectoryOracle, data_scale
+from setsmooth.reliability.random_systems import base_case, in_regime
 
 CASES = Path(__file__).parent / "cases"
 ESTIMATORS = ("filter", "trajectory", "recursion")

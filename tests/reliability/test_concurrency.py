@@ -10,7 +10,7 @@ import pytest
 
 import setsmooth as ss
 
-from .concurrency import montecarlo_lambda_probe, set_factories, threaded_support
+from setsmooth.reliability.concurrency import montecarlo_lambda_probe, set_factories, threaded_support
 
 FACTORIES = set_factories()
 

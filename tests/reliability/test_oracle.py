@@ -10,8 +10,8 @@ import pytest
 import setsmooth as ss
 
 from ..smoothers.polytope_oracle import brute_force_filter_and_smoother
-from .oracle import TrajectoryOracle, factor_form
-from .random_systems import KINDS, REGIMES, base_case, in_regime, make_cases
+from setsmooth.reliability.oracle import TrajectoryOracle, factor_form
+from setsmooth.reliability.random_systems import KINDS, REGIMES, base_case, in_regime, make_cases
 
 
 def _vertex_hulls(system, X0, ys, upto: int):

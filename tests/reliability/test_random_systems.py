@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import pytest
 
-from .compare import compare_case, describe
-from .random_systems import REGIMES, base_case, in_regime
+from setsmooth.reliability.compare import compare_case, describe
+from setsmooth.reliability.random_systems import REGIMES, base_case, in_regime
 
 SEED = 2026
 CASES = [(i, REGIMES[i % len(REGIMES)]) for i in range(10)]

@@ -19,7 +19,7 @@ import setsmooth as ss
 from setsmooth.solvers import factor_set
 from setsmooth.solvers.backends import BACKENDS
 
-from .random_systems import base_case
+from setsmooth.reliability.random_systems import base_case
 
 
 def test_recursion_smoother_directions_are_answered_by_the_simplex_method_first(monkeypatch):

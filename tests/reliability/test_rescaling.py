@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import pytest
 
-from .rescaling import PATHS, check, describe, random_rescalings
+from setsmooth.reliability.rescaling import PATHS, check, describe, random_rescalings
 
 RESCALED = random_rescalings(12, seed=2026)
 
@@ -25,7 +25,7 @@ def test_rescalings_are_the_same_set_for_the_oracle():
     """The re-representations are exact: HiGHS on the rescaled matrices gives the original's values."""
     import numpy as np
 
-    from .oracle import cz_support, factor_form
+    from setsmooth.reliability.oracle import cz_support, factor_form
 
     rng = np.random.default_rng(5)
     for r in RESCALED:

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from .random_systems import base_case
-from .witness import witness_check
+from setsmooth.reliability.random_systems import base_case
+from setsmooth.reliability.witness import witness_check
 
 SEED = 2026
 #: Cases 0–39 of this seed (T = 10..14, n = 2..4) were scanned on the code of 2026-11-23; these three

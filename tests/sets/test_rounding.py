@@ -339,7 +339,7 @@ def test_a_hand_written_recursion_keeps_its_certified_hull_at_the_solvers_value(
     true state."""
     from setsmooth.analysis.random_systems import random_observable_system
     from setsmooth.filters.classical import predict, update
-    from tests.reliability.compare import TrajectoryOracle
+    from setsmooth.reliability.compare import TrajectoryOracle
 
     n, T = 10, 100
     rng = np.random.default_rng(2034)

@@ -131,7 +131,7 @@ def test_a_trajectory_set_presolves_to_the_same_program_at_every_noise_scale():
     # presolved program must not see it. The free factors (states) take the units of the rows with
     # bounded entries; measured by all rows, the noise-free dynamics rows pinned them at their raw
     # scale (1e3 at noise scale 1e3), where Clarabel stopped with a loose dual.
-    from tests.reliability.random_systems import base_case, in_regime
+    from setsmooth.reliability.random_systems import base_case, in_regime
 
     base = base_case(2026, 0, T_range=(10, 16), n_range=(2, 4))
     programs = []
