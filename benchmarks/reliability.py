@@ -46,16 +46,18 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from setsmooth.reliability import compare, concurrency, rescaling, witness  # noqa: E402
 from setsmooth.reliability.oracle import OracleError  # noqa: E402
-from setsmooth.reliability.random_systems import ALL_REGIMES, REGIMES, base_case, in_regime, triangle_case  # noqa: E402
+from setsmooth.reliability.random_systems import ALL_NOISES, ALL_REGIMES, REGIMES, base_case, in_regime, triangle_case  # noqa: E402
 
 
 # -- tasks (module level: they go to worker processes) ------------------------------------------------
 def system_task(seed: int, index: int, with_witness: bool, T_range: tuple[int, int],
                 n_range: tuple[int, int], estimators: tuple[str, ...] = compare.ESTIMATORS,
-                regimes: tuple[str, ...] = REGIMES):
+                regimes: tuple[str, ...] = REGIMES, noises: tuple[str, ...] | None = None):
     """The ``regimes`` (default all) of system ``index``: (list of CaseResult or ('oracle', name,
-    msg)), witness outcome."""
-    base = base_case(seed, index, T_range=T_range, n_range=n_range)
+    msg)), witness outcome. ``noises`` cycles the noise type with the index (None: `base_case`'s
+    box/CZ alternation)."""
+    noise = None if noises is None else noises[index % len(noises)]
+    base = base_case(seed, index, T_range=T_range, n_range=n_range, noise=noise)
     results = []
     for regime in regimes:
         case = in_regime(base, regime)
@@ -129,19 +131,21 @@ def system_table(results: list[compare.CaseResult], title: str, group) -> str:
         groups[group(r)].extend(r.outcomes)
     lines = [f"### {title}", "",
              "| group | runs | runs raising (by estimator and status) | true state outside | "
-             "hull off > 1e−6 rel | certified not enclosing |",
-             "|---|---|---|---|---|---|"]
+             "contains rejects truth | hull off > 1e−6 (w + σ) | hull off > 1e−6 w | certified not enclosing |",
+             "|---|---|---|---|---|---|---|---|"]
     order = sorted(groups, key=lambda g: (list(ALL_REGIMES).index(g) if g in ALL_REGIMES else 99, g))
     total: list[compare.Outcome] = []
     for g in order:
         runs = groups[g]
         total.extend(runs)
         lines.append(f"| {g} | {len(runs)} | {_errors_cell(runs)} | "
-                     f"{_count_cell(runs, 'outside', 'worst_outside')} | {_count_cell(runs, 'off', 'worst_off')} | "
+                     f"{_count_cell(runs, 'outside', 'worst_outside')} | {_count_cell(runs, 'rejected', 'rejected')} | "
+                     f"{_count_cell(runs, 'off', 'worst_off')} | {_count_cell(runs, 'off_width', 'worst_off_width')} | "
                      f"{_count_cell(runs, 'not_enclosing', 'worst_not_enclosing')} |")
     if len(order) > 1:
         lines.append(f"| **all** | {len(total)} | {_errors_cell(total)} | "
-                     f"{_count_cell(total, 'outside', 'worst_outside')} | {_count_cell(total, 'off', 'worst_off')} | "
+                     f"{_count_cell(total, 'outside', 'worst_outside')} | {_count_cell(total, 'rejected', 'rejected')} | "
+                     f"{_count_cell(total, 'off', 'worst_off')} | {_count_cell(total, 'off_width', 'worst_off_width')} | "
                      f"{_count_cell(total, 'not_enclosing', 'worst_not_enclosing')} |")
     return "\n".join(lines)
 
@@ -178,6 +182,7 @@ def failed_cases(results: list[compare.CaseResult], limit: int = 40) -> str:
         for o in r.failed:
             what = [o.error and f"{o.error} at {o.stage}",
                     o.outside and f"{o.outside} outside (worst {o.worst_outside:.1e})",
+                    o.rejected and f"{o.rejected} rejected by contains",
                     o.off and f"{o.off} off (worst {o.worst_off:.1e})",
                     o.not_enclosing and f"{o.not_enclosing} not enclosing (worst {o.worst_not_enclosing:.1e})"]
             lines.append(f"  {r.name} {o.estimator}: " + ", ".join(w for w in what if w))
@@ -322,6 +327,9 @@ def main(argv=None) -> None:
     ap.add_argument("--regimes", default=",".join(REGIMES),
                     help="comma-separated subset of " + ", ".join(ALL_REGIMES) + " (default: all; one "
                          "process per regime runs a heavy system's regimes side by side)")
+    ap.add_argument("--noises", default=None, metavar="N1,N2,...",
+                    help="noise types cycled over the system indices, some of " + ", ".join(ALL_NOISES) +
+                         " (default: box and CZ alternating every five indices, as the test corpus)")
     ap.add_argument("--no-concurrency", action="store_true")
     ap.add_argument("--log", type=Path, default=None, metavar="FILE",
                     help="append one JSON line per finished case (and oracle failure) as it finishes")
@@ -366,6 +374,12 @@ def main(argv=None) -> None:
     if not regimes or any(r not in ALL_REGIMES for r in regimes):
         ap.error(f"--regimes must name some of {', '.join(ALL_REGIMES)}, got {args.regimes!r}")
 
+    noises = None
+    if args.noises is not None:
+        noises = tuple(s.strip() for s in args.noises.split(",") if s.strip())
+        if not noises or any(s not in ALL_NOISES for s in noises):
+            ap.error(f"--noises must name some of {', '.join(ALL_NOISES)}, got {args.noises!r}")
+
     t0 = time.perf_counter()
     case_results, oracle_failed, witnesses, rescaled, long_runs = [], [], [], [], []
     systems_done = 0
@@ -380,7 +394,7 @@ def main(argv=None) -> None:
             if estimators:
                 futures[pool.submit(system_task, args.seed, i, i < args.witness,
                                     tuple(args.T_range), tuple(args.n_range), estimators,
-                                    regimes)] = "system"
+                                    regimes, noises)] = "system"
             elif i < args.witness:
                 futures[pool.submit(witness_task, args.seed, i, tuple(args.T_range),
                                     tuple(args.n_range))] = "witness"
@@ -450,6 +464,7 @@ def main(argv=None) -> None:
              for e in estimators} if case_results else {}
     print("Median seconds per case: oracle {:.2f}; ".format(oracle_t) +
           ", ".join(f"{e} {t:.2f}" for e, t in est_t.items()))
+    print_crashed(crashed)
     if not args.no_concurrency:
         print()
         print(concurrency_table())

@@ -18,7 +18,11 @@ What counts (per estimator and run; a run is one case × one estimator):
 * **off**: some hull endpoint e (plain or certified) differs from the oracle's e* by more than
   ``REL_TOL · (w + σ) + fp``.
 * **not enclosing**: some certified endpoint lies inside the oracle hull by more than
-  ``ENCLOSE_TOL · (w + σ) + fp``.
+  ``ENCLOSE_TOL · (w + σ) + fp``;
+* **rejected**: some true state x_k for which the set's own ``contains(x_k)`` (the estimate's
+  `contains_trajectory`, default tolerance) is False — membership and the hulls must agree;
+* **off by width**: the strict form of *off*, ``REL_TOL · w + fp`` without σ (reported beside it; a
+  coordinate much narrower than the noise makes it stricter than the oracle's own accuracy).
 
 Here w is the oracle hull's width of that coordinate at that k, σ = `oracle.data_scale` (the largest
 ∞-radius of X0, W, V: the noise magnitude, which an offset does not change) and
@@ -66,6 +70,9 @@ class Outcome:
     worst_off: float = 0.0         # largest |e − e*| / (w + σ)
     not_enclosing: int = 0         # certified endpoints inside the exact hull
     worst_not_enclosing: float = 0.0
+    rejected: int = 0              # steps whose set's contains(x_k) is False
+    off_width: int = 0             # endpoints off by more than REL_TOL · w (no σ)
+    worst_off_width: float = 0.0   # largest |e − e*| / w
     seconds: float = 0.0
 
 
@@ -82,7 +89,8 @@ class CaseResult:
 
     @property
     def failed(self) -> list[Outcome]:
-        return [o for o in self.outcomes if o.error or o.outside or o.off or o.not_enclosing]
+        return [o for o in self.outcomes
+                if o.error or o.outside or o.off or o.not_enclosing or o.rejected]
 
 
 def oracle_hulls(case: Case) -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -129,6 +137,12 @@ def score(outcome: Outcome, xs: np.ndarray, exact: tuple[np.ndarray, np.ndarray]
             outcome.off += int(bad.sum())
             if bad.any():
                 outcome.worst_off = max(outcome.worst_off, float(np.max(err[bad] / u[bad])))
+            width = hi_x[:K] - lo_x[:K]
+            bad = err > REL_TOL * width + fp
+            outcome.off_width += int(bad.sum())
+            if bad.any():
+                ratio = err[bad] / np.maximum(width[bad], np.finfo(float).tiny)
+                outcome.worst_off_width = max(outcome.worst_off_width, float(np.max(ratio)))
             if which == "certified":
                 inside = np.maximum(lo - lo_x[:K], hi_x[:K] - hi)
                 inside = np.where(np.isnan(inside), np.inf, inside)
@@ -184,7 +198,7 @@ def confirm_off(oracle: TrajectoryOracle, upto_k: bool, exact: tuple[np.ndarray,
     3.2e-6 below the cold one, which agreed with ours to 1e-12).
     """
     lo_x, hi_x = exact[0].copy(), exact[1].copy()
-    unit = (hi_x - lo_x) + sigma
+    unit = hi_x - lo_x  # the strict unit of `Outcome.off_width`, so both counts are confirmed
     done = set()
     for lo, hi in hulls:
         for k in range(len(lo)):
@@ -227,6 +241,8 @@ def compare_case(case: Case, exact: dict | None = None, estimators=ESTIMATORS) -
         plain, certified = [], []
         try:
             sets = _estimate(case, estimator)
+            stage = "contains"
+            outcome.rejected = int(np.count_nonzero(~sets.contains_trajectory(case.xs[:len(sets)])))
             for S in sets:
                 stage = "hull"
                 plain.append(_bounds(S.interval_hull(certified=False), n))
@@ -242,18 +258,18 @@ def compare_case(case: Case, exact: dict | None = None, estimators=ESTIMATORS) -
         if outcome.error is None:
             key = "filtered" if estimator == "filter" else "smoothed"
             score(outcome, case.xs, exact[key], sigma, plain, certified)
-            if outcome.not_enclosing or outcome.off:
+            if outcome.not_enclosing or outcome.off or outcome.off_width:
                 if oracle is None:
                     oracle = TrajectoryOracle(case.system, case.X0, case.ys)
                 confirmed = exact[key]
                 if outcome.not_enclosing:
                     confirmed = confirm_by_witnesses(oracle, key == "filtered", confirmed, certified,
                                                      sigma)
-                if outcome.off:
+                if outcome.off or outcome.off_width:
                     as_arrays = [(np.array([h[0] for h in hs]), np.array([h[1] for h in hs]))
                                  for hs in (plain, certified)]
                     confirmed = confirm_off(oracle, key == "filtered", confirmed, as_arrays, sigma)
-                kept = Outcome(estimator, seconds=outcome.seconds)
+                kept = Outcome(estimator, seconds=outcome.seconds, rejected=outcome.rejected)
                 score(kept, case.xs, confirmed, sigma, plain, certified)
                 outcome = kept
         result.outcomes.append(outcome)
@@ -271,6 +287,8 @@ def describe(result: CaseResult) -> str:
             parts.append(f"{o.outside} true states outside (worst {o.worst_outside:.2e} rel)")
         if o.off:
             parts.append(f"{o.off} endpoints off (worst {o.worst_off:.2e} rel)")
+        if o.rejected:
+            parts.append(f"{o.rejected} true states rejected by contains")
         if o.not_enclosing:
             parts.append(f"{o.not_enclosing} certified not enclosing (worst {o.worst_not_enclosing:.2e} rel)")
         lines.append(f"{result.name} {o.estimator}: " + "; ".join(parts))

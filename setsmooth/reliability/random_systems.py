@@ -41,6 +41,9 @@ REGIMES = ("scale1", "scale1e-06", "scale1e+03", "offset1e+06")
 #: 1 and 1e-6 (the benchmark's ``--regimes``; the tests keep REGIMES).
 ALL_REGIMES = REGIMES + ("scale1e-03", "scale1e-04", "scale1e-05")
 NOISES = ("box", "cz")
+#: Every noise type a case can be given with ``base_case(..., noise=...)``: NOISES alternate by index
+#: (so the stored corpus keeps its cases); zonotopes are asked for explicitly.
+ALL_NOISES = NOISES + ("zonotope",)
 
 #: Noise scale s of each regime (the offset regime keeps unit noise).
 REGIME_SCALE = {"scale1": 1.0, "scale1e-06": 1e-6, "scale1e+03": 1e3, "offset1e+06": 1.0,
@@ -122,6 +125,13 @@ def random_cz(rng: np.random.Generator, dim: int, radius: float = 1.0) -> ss.Con
     return ss.ConstrainedZonotope(G, c, A, A @ xi)
 
 
+def random_zonotope(rng: np.random.Generator, dim: int, radius: float = 1.0) -> ss.Zonotope:
+    """A random zonotope with dim + 1..3 generators, scaled to ∞-radius ``radius``, centre near 0."""
+    G = rng.normal(size=(dim, dim + int(rng.integers(1, 4))))
+    G *= radius / np.abs(G).sum(axis=1).max()
+    return ss.Zonotope(G, rng.uniform(-0.2, 0.2, dim) * radius)
+
+
 def _random_box(rng: np.random.Generator, dim: int, lo_radius: float, hi_radius: float,
                 centre: float) -> ss.Box:
     mid = rng.uniform(-centre, centre, dim)
@@ -162,17 +172,22 @@ def _matrices(rng: np.random.Generator, kind: str, n: int, p: int, m: int,
 
 
 def base_case(seed: int, index: int, T_range: tuple[int, int] = (10, 40),
-              n_range: tuple[int, int] = (2, 6), cap_singular_radius: bool = True) -> Case:
+              n_range: tuple[int, int] = (2, 6), cap_singular_radius: bool = True,
+              noise: str | None = None) -> Case:
     """Case ``index`` of ``seed`` at unit scale (regime ``scale1``), simulated with setsmooth.simulate.
 
     The kind cycles through `KINDS` with the index and the noise type alternates every five indices,
     so any ten consecutive indices cover every kind with both noise types. ``cap_singular_radius=False``
     keeps a ``singular`` draw's spectral radius as the projection left it (the generator before
-    2026-11-26; regression tests of strongly unstable systems use it).
+    2026-11-26; regression tests of strongly unstable systems use it). ``noise`` (one of
+    `ALL_NOISES`) overrides the alternation; the matrices are drawn before the noise sets, so the
+    same index gives the same system whatever its noise type.
     """
+    if noise is not None and noise not in ALL_NOISES:
+        raise ValueError(f"noise must be one of {ALL_NOISES} or None, got {noise!r}")
     rng = case_rng(seed, index)
     kind = KINDS[index % len(KINDS)]
-    noise = NOISES[(index // len(KINDS)) % len(NOISES)]
+    noise = NOISES[(index // len(KINDS)) % len(NOISES)] if noise is None else noise
     n = int(rng.integers(n_range[0], n_range[1] + 1))
     p = int(rng.integers(1, 4))
     m = int(rng.integers(2 if kind == "rank_deficient_C" else 1, 4))
@@ -187,6 +202,10 @@ def base_case(seed: int, index: int, T_range: tuple[int, int] = (10, 40),
         X0 = _random_box(rng, n, 0.5, 2.0, 1.0)
         W = _random_box(rng, p, 0.2, 1.0, 0.1)
         V = _random_box(rng, q, 0.2, 1.0, 0.1)
+    elif noise == "zonotope":
+        X0 = random_zonotope(rng, n, rng.uniform(0.5, 2.0))
+        W = random_zonotope(rng, p, rng.uniform(0.2, 1.0))
+        V = random_zonotope(rng, q, rng.uniform(0.2, 1.0))
     else:
         X0 = random_cz(rng, n, rng.uniform(0.5, 2.0))
         W = random_cz(rng, p, rng.uniform(0.2, 1.0))
@@ -198,9 +217,11 @@ def base_case(seed: int, index: int, T_range: tuple[int, int] = (10, 40),
 
 
 def scaled_set(S: ss.ConvexSet, s: float) -> ss.ConvexSet:
-    """{s·x : x ∈ S} in the same representation (Box or ConstrainedZonotope)."""
+    """{s·x : x ∈ S} in the same representation (Box, Zonotope or ConstrainedZonotope)."""
     if isinstance(S, ss.Box):
         return ss.Box(S.lo * s, S.hi * s)
+    if isinstance(S, ss.Zonotope):
+        return ss.Zonotope(np.asarray(S.G) * s, S.c * s)
     if isinstance(S, ss.ConstrainedZonotope):
         return ss.ConstrainedZonotope(np.asarray(S.G) * s, S.c * s, np.asarray(S.A), S.b, S.h)
     raise TypeError(f"cannot rescale a {type(S).__name__}")
@@ -210,6 +231,8 @@ def translated_set(S: ss.ConvexSet, o: np.ndarray) -> ss.ConvexSet:
     """S + o in the same representation."""
     if isinstance(S, ss.Box):
         return ss.Box(S.lo + o, S.hi + o)
+    if isinstance(S, ss.Zonotope):
+        return ss.Zonotope(np.asarray(S.G), S.c + o)
     if isinstance(S, ss.ConstrainedZonotope):
         return ss.ConstrainedZonotope(np.asarray(S.G), S.c + o, np.asarray(S.A), S.b, S.h)
     raise TypeError(f"cannot translate a {type(S).__name__}")
