@@ -26,11 +26,10 @@ from .consistency import ON_INCONSISTENT, first_inconsistency, report_inconsiste
 #: The forms of the exact filter's CZ posteriors (``form=``). 'views': the last projections of one
 #: sparse trajectory CZ (`setsmooth.trajectories.posterior_views`), O(T) memory for a data set, and the
 #: accurate form: the recursion's CZs of an unstable system carry generators grown like ‖A‖^k around a set
-#: of unit width (reliability case 027, ρ(A) = 3.5, T = 11: generators ~1e6 for a width ~3), and their hull
-#: endpoints were 3e-4 of the width off the HiGHS oracle in every noise regime, while the views, whose
-#: states are deviations from the nominal trajectory, agreed to 1e-6. 'recursion': Algorithm 1's CZs, built
-#: step by step (the recursion smoother's input), now also about the nominal trajectory
-#: (`setsmooth.trajectories.nominal`). Cost, example (31) with certified hulls,
+#: of unit width, and their hull endpoints can be 1e-4 of the width off an exact oracle, while the views,
+#: whose states are deviations from the nominal trajectory, agree to 1e-6 (docs/numerical_core.md).
+#: 'recursion': Algorithm 1's CZs, built step by step (the recursion smoother's input), now also about
+#: the nominal trajectory (`setsmooth.trajectories.nominal`). Cost, example (31) with certified hulls,
 #: CPU per data set: T = 50, views 0.33 s, recursion 0.22 s; T = 100, 0.88 s and 1.37 s (the
 #: recursion grows as O(T³), the views as O(T²); ``benchmarks/bench_long_horizon.py --cases crossover``).
 #: 'polygon': planar polytope systems only, Algorithm 1 in closed form with `Polygon`s (no solver;

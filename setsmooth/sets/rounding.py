@@ -3,9 +3,8 @@
 A constrained zonotope computed by the algebra (a linear map, a Minkowski sum, a generalized
 intersection, ...) is stored with floating-point data, and the set those data describe is not the exact
 result: M·G, M·c, c₁ + c₂ and y − C·c are rounded. At a state 1e6 from the origin a rounded centre is off
-by 1e-10, and a generalized intersection can amplify such an error by the conditioning of its rows: a
-certified hull of the smoothing recursion's set sat 5e-7 inside the exact hull (reliability case 000 at
-offset 1e6), although it was a valid bound for the set as stored.
+by 1e-10, and a generalized intersection can amplify such an error by the conditioning of its rows, so
+a bound valid for the set as stored can sit inside the exact set's (docs/numerical_core.md).
 
 So the algebra charges its own rounding, and a set states what it contains in two vectors:
 

@@ -177,11 +177,9 @@ class CZProgram:
         """``SUPPORT_GAP_TOL`` times the width of the set along each row d of ``D`` (lower bound
         L(d) + L(−d) when −d is a row too; else the magnitude |L| + |U|), plus the rounding floor:
         four times the certificate's own rounding allowance (``rounding``, from `certified_bound`)
-        and ``SUPPORT_GAP_FLOOR``·(|L| + |U|) for the rounding of L itself.
-
-        The floor used to be 2⁻⁴⁰·(|L| + |U|) whatever the certificate's actual rounding: at states
-        1.9e6 that let an interior-point answer 3e-6 from the optimum pass (2.1e-6 of the hull's
-        width; reliability case 168 at offset 1e6) where the certificate's rounding was 2.8e-9."""
+        and ``SUPPORT_GAP_FLOOR``·(|L| + |U|) for the rounding of L itself. A floor tied to the
+        certificate's actual rounding, not to the magnitude alone, keeps a state far from the
+        origin from hiding a loose answer (evidence: docs/numerical_core.md, “Evidence behind the choices”)."""
         magnitude = np.abs(lower) + np.abs(upper)
         scale = magnitude.copy()
         rows = {(row + 0.0).tobytes(): i for i, row in enumerate(D)}  # + 0.0: −0.0 reads as 0.0

@@ -59,8 +59,8 @@ def project_free(pre, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
     λ₀ is the least-norm solution through the normal equations of Â_F (one sparse LU per presolved
     program and thread, refined), or by lsqr when Â_F is rank deficient: `certify.correct_multipliers`
-    from λ = 0. (lsqr on every direction cost 25 ms each on a trajectory set of n = 5, T = 27,
-    reliability case 150: 95 % of its smoother's time.)
+    from λ = 0; one factorization serves every direction, where lsqr per direction dominated a
+    smoother's time (evidence: docs/numerical_core.md, “Evidence behind the choices”).
     """
     from .certify import correct_multipliers, normal_solver
     from .instances import cached_instance

@@ -154,13 +154,8 @@ def set_rung(h, tolerance: float | None, cap: int, strategy: int = _DUAL) -> Non
     cap and simplex variant for the next run of ``h``, with the dual method's cost perturbation off.
 
     The perturbation is why an iteration cap alone could not bound a run: after the perturbed
-    problem is solved, HiGHS removes the perturbation and cleans up with its primal method, and that
-    clean-up was seen running far past the cap. On the recursion smoother's set k = 17 of
-    reliability case 184 at noise 1e3 (1,864 rows, 2,454 factors) a cold dual rung reached its
-    2,025th iteration in 0.2 s and then ran for hours in the clean-up; unperturbed, the same
-    objective settled in 2,191 iterations, 0.2 s. A test of this suite sat in the clean-up for over
-    ten minutes before the perturbation was switched off. (The time limit that once stopped it made
-    answers depend on the machine's load.)"""
+    problem is solved, HiGHS removes the perturbation and cleans up with its primal method, which
+    the cap does not stop; unperturbed, the cap bounds the whole run (docs/numerical_core.md)."""
     value = 1e-7 if tolerance is None else tolerance
     h.setOptionValue("primal_feasibility_tolerance", value)
     h.setOptionValue("dual_feasibility_tolerance", value)
@@ -227,11 +222,10 @@ def interior_point(pre, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
     """min qᵀη over the presolved program by HiGHS's interior-point method from scratch, without
     crossover: (status name, η, λ̂) as `simplex_cold`.
 
-    Every other HiGHS backend ends in a simplex basis. On the recursion smoother's nearly flat sets
-    the optimal bases are nearly singular and all of them can fail together, where the interior
-    solution (not a vertex; the value and the multipliers are what callers use, and the check
-    judges them) settles: reliability case 184 at noise 1e3, smoothed set k = 25, relative gaps of
-    1.7e-11 to 1.6e-10 on all 12 directions.
+    Every other HiGHS backend ends in a simplex basis. On nearly flat sets the optimal bases are
+    nearly singular and all of them can fail together, where the interior solution (not a vertex;
+    the value and the multipliers are what callers use, and the check judges them) settles
+    (docs/numerical_core.md).
     """
     m, p = pre.A.shape
     h = factor_model(pre.A, pre.b, pre.bounded, solver="ipm")

@@ -10,8 +10,8 @@ which is feasible and bounded whatever the data, so it settles even on flat or n
 set is empty iff t* > ``EMPTINESS_TOL`` in the equilibrated units (every presolved row has unit
 ∞-norm and every bounded factor unit bound; thresholds scale with `Presolved.data_scale`). Clarabel
 solves it on the kept program, refined, then on the fully presolved program if that differs; the
-simplex method decides it where none settles (reliability case 072 at offset 1e6: states 1e28, the
-data consistent only to their rounding).
+simplex method decides it where none settles (data consistent only to their rounding, e.g. states
+of 1e28 on a strongly unstable system).
 
 `relaxed` maximizes over {η : |Âη − b̂| ≤ ρ, |η_B| ≤ 1} with ρ the phase-one residual plus
 ``EMPTINESS_TOL``: the outer value for a set the phase-one program calls non-empty whose support LP
@@ -134,8 +134,8 @@ def relaxed_point(pre: Presolved, q: np.ndarray, rho: float) -> tuple[np.ndarray
     name = str(sol.status).split(".")[-1]
     x, z = np.asarray(sol.x), np.asarray(sol.z)
     if name != "Solved":
-        # The simplex method settles what the interior-point method did not (reliability case 069
-        # at noise 1e3, a set the measurements pin to a sliver).
+        # The simplex method settles what the interior-point method did not (a set the
+        # measurements pin to a sliver).
         fallback, x, z = simplex_inequalities(q, rows, r)
         if fallback != "optimal":
             raise SolverError(name, "computing a support function of a nearly empty constrained "

@@ -13,9 +13,8 @@ Purposes:
 * 'bracketed': the caller brackets the answer between a certified bound and the solver's value and
   escalates it when the bracket is loose (`CZProgram._verified`). On a program whose factors are
   all bounded the warm-started simplex method first: on the recursion smoother's degenerate sets
-  Clarabel stopped at 'AlmostSolved' on most directions (relative gaps 1e-8..1e-7, the refined
-  re-solve at the same point), and simplex first took the plain hulls of reliability cases 043,
-  045 and 000 from 58, 70 and 8.4 s to 13, 39 and 5.4 s (``benchmarks/bench_bracketed_order.py``).
+  Clarabel stops at 'AlmostSolved' on most directions, and simplex first is 1.5–4.5× faster there
+  (``benchmarks/bench_bracketed_order.py``; evidence: docs/numerical_core.md).
   With free factors Clarabel first: the simplex method's multipliers leave up to its dual
   feasibility tolerance on the free factors, which a certificate multiplies by their bound.
 * 'escalated': a direction whose bracket was loose. A cold simplex solve first (a vertex with
@@ -43,8 +42,8 @@ class Attempt:
 
 
 #: The attempts after a purpose's first two: a refined Clarabel solve and the simplex method on the
-#: fully presolved program, HiGHS's interior-point method last (reliability case 184: the simplex
-#: method met a singular basis on every rung and Clarabel a 'NumericalError', where it settled).
+#: fully presolved program, HiGHS's interior-point method last (it settles nearly flat sets where
+#: every simplex basis is singular and Clarabel reports 'NumericalError').
 FALLBACKS = (Attempt("clarabel refined", True), Attempt("simplex", True), Attempt("interior"))
 
 #: The attempts by policy name: the purpose, and for a bracketed program with free factors

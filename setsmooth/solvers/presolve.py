@@ -290,8 +290,8 @@ def _neighbour_units(M: sp.csc_matrix, col_of: np.ndarray, floating: np.ndarray)
     scale s_j = min over its rows of that ratio makes the entry a_j s_j no larger than its row's
     other entries. Without it the alternating equilibration settles with the floating column at its
     raw scale (the row's largest entry, so unit row and column norms): at noise scale 1e-6 such a
-    state is 1e-7 in the solver's units, below Clarabel's and HiGHS's absolute tolerances
-    (reliability case 015: filtered hulls 3.8e-3 of the width off, certified ones 9e-3 loose).
+    state is 1e-7 in the solver's units, below Clarabel's and HiGHS's absolute tolerances, and
+    hulls come out off by 1e-3 of their width (evidence: docs/numerical_core.md).
     Returns 0 for a column none of whose rows has a non-floating entry (left to the sweeps).
     """
     values = np.abs(M.data)

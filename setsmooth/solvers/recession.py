@@ -39,7 +39,7 @@ def _gains(gF: np.ndarray, AF: sp.csc_matrix, context: str) -> np.ndarray:
     if sol.status == "optimal":
         return np.einsum("ij,ij->i", gF, sol.x.reshape(w, nf))
     # Feasible (η = 0) and bounded: the simplex method settles it where the interior-point method
-    # could not (reliability case 176 at noise 1e-6: 'inaccurate').
+    # may stop 'inaccurate' on a thin set.
     gains = np.empty(w)
     for i in range(w):
         status, eta = simplex_box_equalities(-gF[i], AF)

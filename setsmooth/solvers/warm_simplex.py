@@ -33,10 +33,8 @@ WARM_MODEL_KEY = "warm simplex"
 _NO_BATCH = object()
 
 #: HiGHS's simplex variant for a solve from a primal feasible basis (the batch's start, the last
-#: optimum): the primal method (``benchmarks/bench_warm_simplex.py`` compares it with the dual one,
-#: the variant of every cold solve). On the recursion smoother's hull of reliability case 058
-#: (2,806 rows, 5,475 factors) the 12 directions took 986 primal iterations (0.24 s) against 3,700
-#: dual ones (2.5 s), to the same values.
+#: optimum): the primal method, about 10× faster there than the dual one, the variant of every cold
+#: solve (``benchmarks/bench_warm_simplex.py``; evidence: docs/numerical_core.md).
 WARM_STRATEGY = _PRIMAL
 
 #: HiGHS's simplex_scale_strategy for the feasible basis, tried in turn (None: HiGHS's default; see
@@ -82,9 +80,8 @@ class WarmSimplex:
         vertex), or None (cold starts) when that program does not settle at the first rung.
 
         HiGHS's own scaling is off for this solve first: the presolved program is equilibrated
-        already, and on the recursion smoother's hull of reliability case 058 the zero objective
-        took 0.35 s unscaled against 0.88 s scaled (`benchmarks/bench_warm_simplex.py`). Scaling is
-        back on for the directions, and for a retry when the unscaled solve does not settle.
+        already, and unscaled it is about 2.5× faster (`benchmarks/bench_warm_simplex.py`). Scaling
+        is back on for the directions, and for a retry when the unscaled solve does not settle.
         """
         h, p = self._h, self.shape[1]
         h.changeColsCost(p, self._columns, np.zeros(p))

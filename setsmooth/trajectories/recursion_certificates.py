@@ -13,8 +13,8 @@ stability (7)), whose rows are the model data themselves, each rounded once and 
 each of their sets a `DataReference`: the set's certified support values and hulls are those of the
 matching projection, certified against the data, while its own program (the recursion's CZ) answers
 the plain queries. The trajectory CZ of one data set is built once, when the first certificate is
-asked for, and shared by the sets (reliability case 000 at offset 1e6: the stored CZ's certified hulls
-were 1.0e-7 of the width inside the exact hull at 137 endpoints; against the data, none).
+asked for, and shared by the sets: a bound valid for the stored CZ can sit inside the exact set's, a
+bound against the data cannot (docs/numerical_core.md).
 """
 
 from __future__ import annotations
