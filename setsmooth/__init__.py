@@ -33,13 +33,12 @@ _EXPORTS = {
     **dict.fromkeys(["trajectory_set", "filtering_map"], ".trajectories"),
     **dict.fromkeys(["LSUModel", "LSUResult", "lsu_cz_filter", "lsuo_filter", "lsup_filter",
                      "lsu_point_estimate"], ".filters.lsu"),
-    "IntervalEstimates": ".models.intervals",
     **dict.fromkeys(["JointRange", "ScalarRelatedNoiseSystem"], ".models"),
     **dict.fromkeys(["joint_trajectory_set", "optimal_filter", "optimal_joint_smoother",
                      "augment_identical_process_noise"], ".filters.optimal"),
     **dict.fromkeys(["sampled_optimal_filter", "classical_interval_filter", "SampledRanges"],
                     ".filters.sampled"),
-    "SetEstimates": ".results",
+    **dict.fromkeys(["SetEstimates", "Estimates", "IntervalEstimates"], ".results"),
     **dict.fromkeys(["observation_set", "observation_information_set", "observation_information_tower"],
                     ".analysis.observation_information"),
 }
@@ -83,10 +82,9 @@ if TYPE_CHECKING:  # pragma: no cover  (static tools see the eager imports)
     from .filters import OITResult, oit_cz_filter, oit_inspired_filter
     from .filters import (Inconsistency, ModelInvalidatedError, ModelInvalidationWarning,
                           first_inconsistency)
-    from .models.intervals import IntervalEstimates
     from .analysis.observation_information import (observation_information_set,
                                                    observation_information_tower, observation_set)
-    from .results import SetEstimates
+    from .results import Estimates, IntervalEstimates, SetEstimates
     from .sets import (Box, CartesianProduct, ConstrainedZonotope, ConvexSet, Ellipsoid, EmptySet,
                        GeneralizedIntersection, HPolytope, Intersection, LinearMap, MinkowskiSum, Reals,
                        Zonotope)

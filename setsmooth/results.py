@@ -1,26 +1,217 @@
-"""What filters and smoothers return: the list of sets, plus the tubes everyone computes from it.
+"""What filters and smoothers return: one protocol of tubes, checks and a plot, over k = 0..T.
 
-`SetEstimates` is a `list` subclass, so ``posteriors[k]``, ``len``, iteration and slicing behave as
-before; it adds the interval-hull tubes as (T+1, n) arrays, their diameters, the first empty step,
-containment of a true trajectory and a tube plot, and it remembers the data it was computed from
-(system, X0, measurements), so that a smoother given the posteriors of other data raises.
+`Estimates` is the protocol every estimator's result follows: ``lo``, ``hi``, ``centers``,
+``diameters()``, ``first_empty``, ``contains_trajectory(xs)``, ``plot_tubes(ax, dims)`` and ``len``.
+`Tubes` derives all but ``lo`` and ``hi`` from those two, so a result class states its bounds and
+inherits the rest. `SetEstimates` is a `list` subclass, so ``posteriors[k]``, ``len``, iteration and
+slicing behave as lists do (a slice or ``copy()`` is again a `SetEstimates` with the same data); its
+tubes are the sets' interval hulls, its membership test is exact, and it remembers the data it was
+computed from (system, X0, measurements), so that a smoother given the posteriors of other data
+raises. `IntervalEstimates` holds the interval ranges of scalar monotone systems.
 """
 
 from __future__ import annotations
 
 import sys
 from collections.abc import Iterable, Sequence
-from typing import Any
+from dataclasses import dataclass
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
 from ._validation import real_array
 from .sets.base import ConvexSet
+from .tolerances import MEMBERSHIP_TOL
 
-__all__ = ["SetEstimates"]
+__all__ = ["Estimates", "Tubes", "SetEstimates", "IntervalEstimates"]
 
 
-class SetEstimates(list):
+@runtime_checkable
+class Estimates(Protocol):
+    """What every estimator returns, whatever else it carries.
+
+    `SetEstimates` (the exact and reduced filters, the smoothers, the OIT-inspired and the optimal
+    filters), `OITResult`, `LSUResult`, `IntervalEstimates` and `SampledRanges` follow it; their own
+    fields stay. ``lo`` and ``hi`` have shape (T+1, n) with NaN rows at empty steps; (T+1,) for the
+    scalar `IntervalEstimates`, and `SampledRanges`, a batch of runs, puts a runs axis first in every
+    member. Results holding sets also give the set at step k as ``result[k]``.
+    """
+
+    @property
+    def lo(self) -> np.ndarray: ...
+
+    @property
+    def hi(self) -> np.ndarray: ...
+
+    @property
+    def centers(self) -> np.ndarray: ...
+
+    @property
+    def first_empty(self) -> Any: ...
+
+    def diameters(self, norm: float | str = np.inf) -> np.ndarray: ...
+
+    def contains_trajectory(self, xs: Any, tol: float | None = None) -> np.ndarray: ...
+
+    def plot_tubes(self, ax: Any = None, dims: Sequence[int] | None = None, **kwargs) -> list: ...
+
+    def __len__(self) -> int: ...
+
+
+class Tubes:
+    """The `Estimates` protocol derived from ``lo`` and ``hi``.
+
+    A result class defines ``lo`` and ``hi`` (shape (T+1, n), or (T+1,) for a scalar state; NaN rows
+    where the estimate is empty) and ``__len__``, and inherits ``centers``, ``diameters``,
+    ``first_empty``, ``contains_trajectory`` (interval membership; a result holding sets overrides it
+    with exact membership) and ``plot_tubes``. ``kind`` labels the tube; a ``system`` with a sampling
+    time ``dt`` scales the time axis.
+    """
+
+    kind: str = ""
+    system: Any = None
+
+    def _bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """lo and hi as (T+1, n) arrays (a scalar state's (T+1,) as a column)."""
+        lo, hi = np.asarray(self.lo), np.asarray(self.hi)
+        return lo.reshape(len(lo), -1), hi.reshape(len(hi), -1)
+
+    def _step_indices(self) -> np.ndarray:
+        """The step k of each entry (0..T unless the result is a slice)."""
+        return np.arange(len(self))
+
+    @property
+    def centers(self) -> np.ndarray:
+        """Interval-hull centres (the ∞-norm Chebyshev centres), shaped like ``lo``."""
+        return (self.lo + self.hi) / 2.0
+
+    def diameters(self, norm: float | str = np.inf) -> np.ndarray:
+        """Diameters of the interval hulls, shape (T+1,); NaN where the estimate is empty.
+
+        Parameters
+        ----------
+        norm : {inf, 'inf', 2}
+            inf (default): the widest edge, which is exactly the set's ∞-norm diameter (smoothing
+            paper Fig. 3(b)). 2: the hull's diagonal, an upper bound of the set's 2-norm diameter
+            (within a factor √n).
+
+        Returns
+        -------
+        ndarray, shape (T+1,)
+        """
+        lo, hi = self._bounds()
+        if norm in (np.inf, "inf"):
+            return (hi - lo).max(axis=1, initial=-np.inf) if len(lo) else np.zeros(0)
+        if norm == 2:
+            return np.linalg.norm(hi - lo, axis=1)
+        raise ValueError(f"norm must be inf or 2, got {norm!r}")
+
+    @property
+    def first_empty(self) -> int | None:
+        """The first step whose estimate is empty (the data contradict the model there), or None."""
+        empty = np.flatnonzero(np.isnan(self._bounds()[0]).any(axis=1))
+        return int(empty[0]) if empty.size else None
+
+    def _states(self, xs: Any, name: str = "xs") -> np.ndarray:
+        """``xs`` as a (T+1, n) array, one state per step (a scalar state's (T+1,) accepted)."""
+        steps, n = self._bounds()[0].shape
+        states = real_array(xs, name, f"an array of shape ({steps}, {n})")
+        if states.shape != (steps, n) and not (n == 1 and states.shape == (steps,)):
+            raise ValueError(f"{name} must have shape ({steps}, {n}), one state per step, got {states.shape}")
+        return states.reshape(steps, n)
+
+    def contains_trajectory(self, xs: Any, tol: float | None = None) -> np.ndarray:
+        """Whether each true state x_k lies in the k-th interval hull.
+
+        Parameters
+        ----------
+        xs : array_like, shape (T+1, n)
+            The true trajectory ((T+1,) for a scalar state).
+        tol : float, optional
+            Absolute margin; by default ``MEMBERSHIP_TOL`` relative to max(1, |x|).
+
+        Returns
+        -------
+        ndarray of bool, shape (T+1,)
+            False at empty steps.
+        """
+        lo, hi = self._bounds()
+        states = self._states(xs)
+        margin = MEMBERSHIP_TOL * np.maximum(1.0, np.abs(states)) if tol is None else float(tol)
+        with np.errstate(invalid="ignore"):
+            inside = (lo - margin <= states) & (states <= hi + margin)
+        return inside.all(axis=1)
+
+    def plot_tubes(self, ax: Any = None, dims: Sequence[int] | None = None, *, truth: Any = None,
+                   times: Any = None, label: str | None = None, **kwargs) -> list:
+        """Shade the interval-hull tube lo[k, i]..hi[k, i] against k for each coordinate i in ``dims``.
+
+        Call it on the filtered and on the smoothed result with the same axes to compare them:
+        ``axes = filtered.plot_tubes(); smoothed.plot_tubes(axes, truth=xs)``.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes or sequence of Axes, optional
+            One axes per coordinate of ``dims``; new subplots stacked vertically when None.
+        dims : sequence of int, optional
+            Coordinates to plot; all by default.
+        truth : array_like, shape (T+1, n), optional
+            A true trajectory, drawn as a black line.
+        times : array_like, shape (T+1,), optional
+            The horizontal axis; k·dt when the system has a sampling time ``dt``, else k.
+        label : str, optional
+            Legend label of the tube; ``kind`` by default.
+        **kwargs
+            Passed to ``Axes.fill_between`` (e.g. ``color``, ``alpha``).
+
+        Returns
+        -------
+        list of matplotlib.axes.Axes
+            The axes drawn on, one per coordinate of ``dims`` (pass them back as ``ax``); each tube is
+            the last of its axes' ``collections``.
+
+        Raises
+        ------
+        TypeError
+            When ``ax`` holds something other than matplotlib Axes.
+        """
+        import matplotlib.pyplot as plt
+
+        lo, hi = self._bounds()
+        steps, n = lo.shape
+        dims = list(range(n)) if dims is None else [int(i) for i in dims]
+        if not dims or min(dims) < 0 or max(dims) >= n:
+            raise ValueError(f"dims must be coordinates in [0, {n}), got {dims}")
+        if ax is None:
+            _, ax = plt.subplots(len(dims), 1, sharex=True, squeeze=False,
+                                 figsize=(6.4, 1.0 + 1.8 * len(dims)))
+            ax = ax[:, 0]
+        axes = list(np.atleast_1d(np.asarray(ax, dtype=object)).ravel())
+        wrong = next((a for a in axes if not hasattr(a, "fill_between")), None)
+        if wrong is not None:
+            raise TypeError(f"ax must be a matplotlib Axes or a sequence of them (one per coordinate of "
+                            f"dims), got {type(wrong).__name__}")
+        if len(axes) != len(dims):
+            raise ValueError(f"ax must hold one Axes per coordinate of dims ({len(dims)}), got {len(axes)}")
+        dt = getattr(self.system, "dt", None)
+        if times is None:
+            times = self._step_indices() * (dt if dt is not None else 1.0)
+        times = real_array(times, "times").reshape(-1)
+        if times.shape != (steps,):
+            raise ValueError(f"times must have shape ({steps},), got {times.shape}")
+        xs = None if truth is None else self._states(truth, "truth")
+        kwargs.setdefault("alpha", 0.35)
+        for a, i in zip(axes, dims):
+            a.fill_between(times, lo[:, i], hi[:, i],
+                           label=label if label is not None else (self.kind or None), **kwargs)
+            if xs is not None:
+                a.plot(times, xs[:, i], color="black", linewidth=1.0, label="true state")
+            a.set_ylabel(f"$x_{{{i}}}$")
+        axes[-1].set_xlabel("t" if dt is not None else "k")
+        return axes
+
+
+class SetEstimates(Tubes, list):
     """The sets ⟦x_k | ·⟧ for k = 0..T of one estimator run, as a list with tubes and provenance.
 
     Parameters
@@ -51,7 +242,8 @@ class SetEstimates(list):
     Notes
     -----
     The hulls are computed once, on first use, and kept while the list holds the same set objects
-    (replacing an entry recomputes them).
+    (replacing an entry recomputes them). A slice (``posteriors[10:20]``) and ``copy()`` are
+    `SetEstimates` with the same data and ``kind``; a slice's tube plot keeps the steps' own k.
 
     Examples
     --------
@@ -74,6 +266,26 @@ class SetEstimates(list):
             self.ys = np.array(real_array(ys, "ys"), dtype=float, copy=True)
             self.ys.flags.writeable = False
         self._hull_cache: tuple[tuple[int, ...], list[ConvexSet], np.ndarray, np.ndarray] | None = None
+        self._steps: np.ndarray | None = None  # the steps k of a slice's sets (None: 0..T)
+
+    def __getitem__(self, index):
+        if not isinstance(index, slice):
+            return list.__getitem__(self, index)
+        return self._like(list.__getitem__(self, index), self._step_indices()[index])
+
+    def copy(self) -> SetEstimates:
+        """A shallow copy: the same sets, data and kind, still a `SetEstimates`."""
+        return self._like(list(self), self._steps)
+
+    def _like(self, sets: list, steps: np.ndarray | None) -> SetEstimates:
+        out = SetEstimates(sets)
+        out.__dict__.update(self.__dict__)
+        out._steps = steps
+        return out
+
+    def _step_indices(self) -> np.ndarray:
+        steps = getattr(self, "_steps", None)
+        return np.arange(len(self)) if steps is None else steps
 
     # -- tubes ---------------------------------------------------------------------------------------
     def interval_hulls(self, *, certified: bool | None = None, workers: int = 1,
@@ -157,38 +369,6 @@ class SetEstimates(list):
         """Upper edges of the interval hulls, shape (T+1, n); NaN rows where the set is empty."""
         return self._tubes()[1]
 
-    @property
-    def centers(self) -> np.ndarray:
-        """Interval-hull centres (the ∞-norm Chebyshev centres), shape (T+1, n)."""
-        lo, hi = self._tubes()
-        return (lo + hi) / 2.0
-
-    def diameters(self, norm: float | str = np.inf) -> np.ndarray:
-        """Diameters of the interval hulls, shape (T+1,); NaN where the set is empty.
-
-        Parameters
-        ----------
-        norm : {inf, 'inf', 2}
-            inf (default): the widest edge, which is exactly the set's ∞-norm diameter (smoothing
-            paper Fig. 3(b)). 2: the hull's diagonal, an upper bound of the set's 2-norm diameter
-            (within a factor √n).
-
-        Returns
-        -------
-        ndarray, shape (T+1,)
-        """
-        lo, hi = self._tubes()
-        if norm in (np.inf, "inf"):
-            return (hi - lo).max(axis=1, initial=-np.inf) if len(self) else np.zeros(0)
-        if norm == 2:
-            return np.linalg.norm(hi - lo, axis=1)
-        raise ValueError(f"norm must be inf or 2, got {norm!r}")
-
-    @property
-    def first_empty(self) -> int | None:
-        empty = np.flatnonzero(np.isnan(self._tubes()[0]).any(axis=1))
-        return int(empty[0]) if empty.size else None
-
     def contains_trajectory(self, xs: Any, tol: float | None = None) -> np.ndarray:
         """Whether each true state x_k lies in the k-th set (an exact membership program per step).
 
@@ -208,74 +388,6 @@ class SetEstimates(list):
         if states.shape != (len(self), n):
             raise ValueError(f"xs must have shape ({len(self)}, {n}), one state per set, got {states.shape}")
         return np.array([S.contains(x, tol) for S, x in zip(self, states)], dtype=bool)
-
-    # -- plotting ------------------------------------------------------------------------------------
-    def plot_tubes(self, ax: Any = None, dims: Sequence[int] | None = None, *, truth: Any = None,
-                   times: Any = None, label: str | None = None, **kwargs) -> list:
-        """Shade the interval-hull tube lo[k, i]..hi[k, i] against k for each coordinate i in ``dims``.
-
-        Call it on the filtered and on the smoothed result with the same axes to compare them:
-        ``axes = filtered.plot_tubes(); smoothed.plot_tubes(axes, truth=xs)``.
-
-        Parameters
-        ----------
-        ax : matplotlib Axes or sequence of Axes, optional
-            One axes per coordinate of ``dims``; new subplots stacked vertically when None.
-        dims : sequence of int, optional
-            Coordinates to plot; all by default.
-        truth : array_like, shape (T+1, n), optional
-            A true trajectory, drawn as a black line.
-        times : array_like, shape (T+1,), optional
-            The horizontal axis; k·dt when the system has a sampling time ``dt``, else k.
-        label : str, optional
-            Legend label of the tube; ``kind`` by default.
-        **kwargs
-            Passed to ``Axes.fill_between`` (e.g. ``color``, ``alpha``).
-
-        Returns
-        -------
-        list of matplotlib.axes.Axes
-            The axes drawn on, one per coordinate of ``dims`` (pass them back as ``ax``); each tube is
-            the last of its axes' ``collections``.
-
-        Raises
-        ------
-        TypeError
-            When ``ax`` holds something other than matplotlib Axes.
-        """
-        import matplotlib.pyplot as plt
-
-        n = self[0].dim if len(self) else 0
-        dims = list(range(n)) if dims is None else [int(i) for i in dims]
-        if not dims or min(dims) < 0 or max(dims) >= n:
-            raise ValueError(f"dims must be coordinates in [0, {n}), got {dims}")
-        if ax is None:
-            _, ax = plt.subplots(len(dims), 1, sharex=True, squeeze=False,
-                                 figsize=(6.4, 1.0 + 1.8 * len(dims)))
-            ax = ax[:, 0]
-        axes = list(np.atleast_1d(np.asarray(ax, dtype=object)).ravel())
-        wrong = next((a for a in axes if not hasattr(a, "fill_between")), None)
-        if wrong is not None:
-            raise TypeError(f"ax must be a matplotlib Axes or a sequence of them (one per coordinate of "
-                            f"dims), got {type(wrong).__name__}")
-        if len(axes) != len(dims):
-            raise ValueError(f"ax must hold one Axes per coordinate of dims ({len(dims)}), got {len(axes)}")
-        if times is None:
-            dt = getattr(self.system, "dt", None)
-            times = np.arange(len(self)) * (dt if dt is not None else 1.0)
-        times = real_array(times, "times").reshape(-1)
-        if times.shape != (len(self),):
-            raise ValueError(f"times must have shape ({len(self)},), got {times.shape}")
-        xs = None if truth is None else real_array(truth, "truth").reshape(len(self), n)
-        kwargs.setdefault("alpha", 0.35)
-        for a, i in zip(axes, dims):
-            a.fill_between(times, self.lo[:, i], self.hi[:, i],
-                           label=label if label is not None else (self.kind or None), **kwargs)
-            if xs is not None:
-                a.plot(times, xs[:, i], color="black", linewidth=1.0, label="true state")
-            a.set_ylabel(f"$x_{{{i}}}$")
-        axes[-1].set_xlabel("t" if getattr(self.system, "dt", None) is not None else "k")
-        return axes
 
     # -- provenance ----------------------------------------------------------------------------------
     def check_same_data(self, system: Any, X0: ConvexSet, ys: np.ndarray) -> None:
@@ -327,3 +439,57 @@ def _same_hull(A: ConvexSet, B: ConvexSet) -> bool:
     if ha.is_empty() or hb.is_empty():
         return ha.is_empty() and hb.is_empty()
     return bool(np.array_equal(ha.lo, hb.lo) and np.array_equal(ha.hi, hb.hi))
+
+
+@dataclass(frozen=True)
+class IntervalEstimates(Tubes):
+    """Interval ranges [lo[k], hi[k]] of a scalar state for k = 0..T; both NaN where the range is empty.
+
+    What `interval_filter`, `interval_smoother` and `classical_interval_filter` return (smoothing paper
+    (27)–(30): for a scalar monotone system every range is an interval). It follows the `Estimates`
+    protocol with ``lo`` and ``hi`` of shape (T+1,), the state being scalar.
+
+    Attributes
+    ----------
+    lo, hi : ndarray, shape (T+1,)
+        Lower and upper endpoints (read-only copies; ±inf allowed for unbounded ranges).
+
+    Raises
+    ------
+    ValueError
+        When shapes differ, NaN appears in only one endpoint, or lo > hi somewhere.
+
+    Examples
+    --------
+    >>> ranges = IntervalEstimates([0.0, 0.5, float("nan")], [1.0, 0.75, float("nan")])
+    >>> ranges.diameters().tolist()[:2], ranges.first_empty, ranges.contains_trajectory([0.5, 0.6, 0.0]).tolist()
+    ([1.0, 0.25], 2, [True, True, False])
+    """
+
+    lo: np.ndarray
+    hi: np.ndarray
+
+    def __post_init__(self) -> None:
+        lo = real_array(self.lo, "lo").reshape(-1).copy() if np.ndim(self.lo) <= 1 else None
+        hi = real_array(self.hi, "hi").reshape(-1).copy() if np.ndim(self.hi) <= 1 else None
+        if lo is None or hi is None or lo.shape != hi.shape:
+            raise ValueError(f"lo and hi must be 1-D arrays of one length (T+1,), got shapes "
+                             f"{np.shape(self.lo)} and {np.shape(self.hi)}")
+        if not np.array_equal(np.isnan(lo), np.isnan(hi)):
+            raise ValueError("lo and hi must be NaN at the same steps (NaN marks an empty range)")
+        with np.errstate(invalid="ignore"):
+            if np.any(lo > hi):
+                raise ValueError(f"lo must not exceed hi; first violation at k = {int(np.argmax(lo > hi))}")
+        lo.setflags(write=False)
+        hi.setflags(write=False)
+        # Frozen dataclass: assign the validated copies through object.__setattr__.
+        object.__setattr__(self, "lo", lo)
+        object.__setattr__(self, "hi", hi)
+
+    @property
+    def empty(self) -> np.ndarray:
+        """Boolean array, True where the range is empty."""
+        return np.isnan(self.lo)
+
+    def __len__(self) -> int:
+        return self.lo.shape[0]

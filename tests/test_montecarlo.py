@@ -36,7 +36,7 @@ def smoothing_trial(rng, T):
     y = 2 * x + rng.uniform(1, 3, T + 1)
     filt = interval_filter(eta, (-1, 1), (-1, 1), y, lambda k, yk: ((yk - 3) / 2, (yk - 1) / 2))
     smooth = interval_smoother(eta, (-1, 1), filt)
-    return filt.diameters.mean(), smooth.diameters.mean()
+    return filt.diameters().mean(), smooth.diameters().mean()
 
 
 def fail_on_negative(rng):

@@ -36,6 +36,7 @@ import scipy.sparse as sp
 
 from .._validation import as_measurements, check_system
 from ..models.related_noise import JointRange
+from ..results import SetEstimates
 from ..sets import rounding
 from ..sets.algebra import cartesian_product
 from ..sets.base import ConvexSet
@@ -94,7 +95,7 @@ def joint_trajectory_set(system, joint_range: JointRange, ys: Any, stop: int | N
     return _assemble(system, joint_range, cz, ys, stop)
 
 
-def optimal_filter(system, joint_range: JointRange, ys: Any, *, detect_empty: bool = True) -> list[ConvexSet]:
+def optimal_filter(system, joint_range: JointRange, ys: Any, *, detect_empty: bool = True) -> SetEstimates:
     """The optimal posteriors ⟦x_k | y_{0:k}⟧, k = 0..T, under a joint range (rethinking Theorem 1).
 
     Exact: ``posteriors[k]`` is the projection on x_k of `joint_trajectory_set` with stop = k.
@@ -112,7 +113,7 @@ def optimal_filter(system, joint_range: JointRange, ys: Any, *, detect_empty: bo
 
     Returns
     -------
-    list of ConvexSet
+    SetEstimates
         Constrained zonotopes when the joint range flattens to one. Under
         `JointRange.unrelated` they equal `classical_filter`'s posteriors (Theorem 2); otherwise
         they are contained in them (Theorem 3).
@@ -145,10 +146,10 @@ def optimal_filter(system, joint_range: JointRange, ys: Any, *, detect_empty: bo
     if detect_empty:
         first = _first_empty(posteriors)
         posteriors[first:] = [EmptySet(n) for _ in range(first, len(posteriors))]
-    return posteriors
+    return SetEstimates(posteriors, system=system, ys=ys, kind="filtered")
 
 
-def optimal_joint_smoother(system, joint_range: JointRange, ys: Any) -> list[ConvexSet]:
+def optimal_joint_smoother(system, joint_range: JointRange, ys: Any) -> SetEstimates:
     """The optimal smoothed ranges ⟦x_k | y_{0:T}⟧, k = 0..T, under a joint range.
 
     The projections on x_0..x_T of one set, `joint_trajectory_set` with stop = T (the smoothing paper's
@@ -162,7 +163,7 @@ def optimal_joint_smoother(system, joint_range: JointRange, ys: Any) -> list[Con
 
     Returns
     -------
-    list of ConvexSet
+    SetEstimates
         Each inside the optimal posterior of the same k, equal to it at k = T; all empty when the data
         contradict the joint range.
 
@@ -175,9 +176,9 @@ def optimal_joint_smoother(system, joint_range: JointRange, ys: Any) -> list[Con
     trajectories = joint_trajectory_set(system, joint_range, ys)
     n = system.n
     steps = trajectories.dim // n
-    if trajectories.is_empty():
-        return [EmptySet(n) for _ in range(steps)]
-    return [trajectories.project(range(k * n, (k + 1) * n)) for k in range(steps)]
+    sets = [EmptySet(n) for _ in range(steps)] if trajectories.is_empty() else \
+        [trajectories.project(range(k * n, (k + 1) * n)) for k in range(steps)]
+    return SetEstimates(sets, system=system, ys=ys, kind="smoothed")
 
 
 def augment_identical_process_noise(system, X0: ConvexSet) -> tuple[LinearSystem, ConvexSet]:

@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from .._validation import check_rng, real_array
-from ..models.intervals import IntervalEstimates
+from ..results import IntervalEstimates
 from ..models.related_noise import ScalarRelatedNoiseSystem
 from .interval import interval_filter
 
@@ -46,6 +46,12 @@ _BLOCK = 1 << 20
 @dataclass(frozen=True)
 class SampledRanges:
     """Sampled optimal ranges [lo, hi] of one or many runs of Algorithm 2 (inner approximations).
+
+    A batch of runs that follows the `Estimates` protocol with a leading runs axis: ``lo``, ``hi``,
+    ``centers`` and ``diameters()`` have shape (runs, T+1), ``first_empty`` is a list (one step or
+    None per run), ``contains_trajectory(xs)`` takes and returns (runs, T+1) arrays and
+    ``plot_tubes`` draws every run's tube on the same axes. ``sampled[r]`` is run r's
+    `IntervalEstimates`. The ranges are inner approximations: the true state may lie outside them.
 
     Attributes
     ----------
@@ -70,6 +76,45 @@ class SampledRanges:
     def lengths(self) -> np.ndarray:
         """μ(⟦x_k | y_{0:k}⟧) = hi − lo, the interval lengths of Fig. 2 (NaN where empty)."""
         return self.hi - self.lo
+
+    @property
+    def centers(self) -> np.ndarray:
+        """Midpoints of the ranges, shape (runs, T+1)."""
+        return (self.lo + self.hi) / 2.0
+
+    def diameters(self, norm: float | str = np.inf) -> np.ndarray:
+        """The lengths hi − lo, shape (runs, T+1) (a scalar state: every norm gives them)."""
+        return np.array([self[r].diameters(norm) for r in range(len(self))]).reshape(self.lo.shape)
+
+    @property
+    def first_empty(self) -> list:
+        """Per run, the first step whose range is empty (no sample accepted), or None."""
+        return [self[r].first_empty for r in range(len(self))]
+
+    def contains_trajectory(self, xs: Any, tol: float | None = None) -> np.ndarray:
+        """Whether each run's true x_k lies in its range, shape (runs, T+1).
+
+        Parameters
+        ----------
+        xs : array_like, shape (runs, T+1), or (T+1,) for one run
+        tol : float, optional
+            As in `IntervalEstimates.contains_trajectory`.
+        """
+        states = real_array(xs, "xs", f"an array of shape {self.lo.shape}")
+        if states.shape != self.lo.shape and not (len(self) == 1 and states.shape == self.lo.shape[1:]):
+            raise ValueError(f"xs must have shape {self.lo.shape} (one trajectory per run), got {states.shape}")
+        states = states.reshape(self.lo.shape)
+        return np.array([self[r].contains_trajectory(states[r], tol) for r in range(len(self))])
+
+    def plot_tubes(self, ax: Any = None, dims: Any = None, *, truth: Any = None, label: str | None = None,
+                   **kwargs) -> list:
+        """Every run's range tube on the same axes (`IntervalEstimates.plot_tubes`; ``truth`` of shape
+        (runs, T+1)); the label goes to the first run only. Returns the axes."""
+        truths = None if truth is None else real_array(truth, "truth").reshape(self.lo.shape)
+        for r in range(len(self)):
+            ax = self[r].plot_tubes(ax, dims, truth=None if truths is None else truths[r],
+                                    label=label if r == 0 else None, **kwargs)
+        return ax
 
     def __len__(self) -> int:
         return self.lo.shape[0]

@@ -4,69 +4,21 @@ Smoothing paper (27)–(30): for x_{k+1} = η(x_k) + w_k with η continuous and 
 filtered and smoothed range is an interval. `IntervalEstimates` holds them (NaN marks an empty range:
 NaN can never pass as a real bound in a comparison); `eval_eta`, `noise_intervals` and `as_interval`
 check the user's η and intervals the same way for `setsmooth.filters.interval` and
-`setsmooth.smoothers.nonlinear`.
+`setsmooth.smoothers.nonlinear`. (`IntervalEstimates` is defined in `setsmooth.results`, with the
+other results, and importable from here as before.)
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from .._validation import real_array, real_number
+from ..results import IntervalEstimates  # noqa: F401  (its old home: importable from here)
 
-__all__ = ["IntervalEstimates", "eval_eta", "noise_intervals", "as_interval"]
-
-
-@dataclass(frozen=True)
-class IntervalEstimates:
-    """Interval ranges [lo[k], hi[k]] for k = 0..T; both NaN where the range is empty.
-
-    Attributes
-    ----------
-    lo, hi : ndarray, shape (T+1,)
-        Lower and upper endpoints (read-only copies; ±inf allowed for unbounded ranges).
-
-    Raises
-    ------
-    ValueError
-        When shapes differ, NaN appears in only one endpoint, or lo > hi somewhere.
-    """
-
-    lo: np.ndarray
-    hi: np.ndarray
-
-    def __post_init__(self) -> None:
-        lo = real_array(self.lo, "lo").reshape(-1).copy() if np.ndim(self.lo) <= 1 else None
-        hi = real_array(self.hi, "hi").reshape(-1).copy() if np.ndim(self.hi) <= 1 else None
-        if lo is None or hi is None or lo.shape != hi.shape:
-            raise ValueError(f"lo and hi must be 1-D arrays of one length (T+1,), got shapes "
-                             f"{np.shape(self.lo)} and {np.shape(self.hi)}")
-        if not np.array_equal(np.isnan(lo), np.isnan(hi)):
-            raise ValueError("lo and hi must be NaN at the same steps (NaN marks an empty range)")
-        with np.errstate(invalid="ignore"):
-            if np.any(lo > hi):
-                raise ValueError(f"lo must not exceed hi; first violation at k = {int(np.argmax(lo > hi))}")
-        lo.setflags(write=False)
-        hi.setflags(write=False)
-        # Frozen dataclass: assign the validated copies through object.__setattr__.
-        object.__setattr__(self, "lo", lo)
-        object.__setattr__(self, "hi", hi)
-
-    @property
-    def empty(self) -> np.ndarray:
-        """Boolean array, True where the range is empty."""
-        return np.isnan(self.lo)
-
-    @property
-    def diameters(self) -> np.ndarray:
-        """hi − lo for every k (NaN for an empty range, inf for an unbounded one)."""
-        return self.hi - self.lo
-
-    def __len__(self) -> int:
-        return self.lo.shape[0]
+__all__ = ["eval_eta", "noise_intervals", "as_interval"]
 
 
 def noise_intervals(w_interval: Any, T: int) -> np.ndarray:

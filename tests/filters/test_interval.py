@@ -40,7 +40,7 @@ def test_true_state_inside_posterior_ranges_over_runs():
         assert not est.empty.any()
         assert np.all(est.lo <= x) and np.all(x <= est.hi)
         # The update never widens the measurement interval, whose width is 1 for (34).
-        assert np.all(est.diameters <= 1.0 + 1e-12)
+        assert np.all(est.diameters() <= 1.0 + 1e-12)
 
 
 def test_hand_computed_linear_example():
@@ -52,7 +52,7 @@ def test_hand_computed_linear_example():
     # k=2: [6, 10] ∩ [9, 10] = [9, 10].
     np.testing.assert_array_equal(est.lo, [1.0, 3.0, 9.0])
     np.testing.assert_array_equal(est.hi, [2.0, 4.0, 10.0])
-    np.testing.assert_array_equal(est.diameters, [1.0, 1.0, 1.0])
+    np.testing.assert_array_equal(est.diameters(), [1.0, 1.0, 1.0])
 
 
 def test_time_varying_noise_interval():
@@ -77,7 +77,7 @@ def test_inconsistent_measurement_gives_empty_from_then_on():
     est = interval_filter(eta33, W, (-1.0, 1.0), y, meas34)
     np.testing.assert_array_equal(est.empty, [False, False, False, True, True, True, True])
     assert np.isnan(est.lo[3:]).all() and np.isnan(est.hi[3:]).all()
-    assert np.isnan(est.diameters[3:]).all() and np.isfinite(est.diameters[:3]).all()
+    assert np.isnan(est.diameters()[3:]).all() and np.isfinite(est.diameters()[:3]).all()
 
 
 def test_estimates_are_immutable_and_validated():

@@ -36,7 +36,7 @@ def test_true_state_inside_and_smoothed_within_filtered_over_runs():
         assert np.all(smooth.lo <= x) and np.all(x <= smooth.hi)
         assert np.all(filt.lo <= smooth.lo) and np.all(smooth.hi <= filt.hi)
         assert (smooth.lo[-1], smooth.hi[-1]) == (filt.lo[-1], filt.hi[-1])
-        shrink.append(np.mean(filt.diameters - smooth.diameters))
+        shrink.append(np.mean(filt.diameters() - smooth.diameters()))
     # Smoothing paper Fig. 6: smoothing tightens the ranges on average (modestly for (33)–(34):
     # the width-1 measurement interval already dominates the width-3 backward preimage).
     assert np.mean(shrink) > 0.0
