@@ -13,6 +13,16 @@ states whose output can be y_k, empty exactly when y_k ∉ O_k),
 and `first_inconsistency` reports k, y_k and its ∞-norm distance from O_k. That distance is the
 closest-point program's value (`ConvexSet.center(method='closest')`), a measure of how far the data
 miss, not a certified bound; the verdict itself is the filter's certified emptiness decision.
+
+The other estimators report the same way (`ModelInvalidationWarning`, ``on_inconsistent``):
+`optimal_smoother` (its sets are all empty exactly when a posterior is, and it names the filter's first
+empty step), and the outer-bound filters `oit_cz_filter`, `oit_inspired_filter`, `lsu_cz_filter`,
+`lsuo_filter` and `lsup_filter` through `outer_inconsistency`. Their estimates contain the exact
+posteriors, so an empty estimate proves the data inconsistent with the model; a non-empty one does not
+prove them consistent (an outer bound of an empty set need not be empty), and the exact filter may find
+the inconsistency at an earlier step. Their distance is measured from the output set predicted from
+their own estimate at k − 1, a superset of the exact one: it is at most the exact filter's distance at
+that step.
 """
 
 from __future__ import annotations
@@ -30,7 +40,8 @@ from ..sets.base import ConvexSet
 from ..sets.empty import EmptySet
 
 __all__ = ["Inconsistency", "ModelInvalidationWarning", "ModelInvalidatedError",
-           "first_inconsistency", "report_inconsistency", "ON_INCONSISTENT"]
+           "first_inconsistency", "outer_inconsistency", "report_inconsistency", "check_on_inconsistent",
+           "ON_INCONSISTENT"]
 
 #: What an estimator does when the data contradict the model: warn (the default), raise, or ignore.
 ON_INCONSISTENT = ("warn", "raise", "ignore")
@@ -57,17 +68,26 @@ class Inconsistency:
         y_k.
     distance : float
         ∞-norm distance of y_k from the output set predicted from y_0, …, y_{k−1} (solver value).
+    estimator : str
+        '' for the exact filter; else the outer-bound estimator whose estimate is first empty at
+        ``step`` (`outer_inconsistency`), whose distance is measured from its own prediction.
     """
 
     step: int
     measurement: np.ndarray
     distance: float
+    estimator: str = ""
 
     def __str__(self) -> str:
+        y = f"y_{self.step} = {np.array2string(self.measurement, precision=4)}"
+        if self.estimator:
+            before = "X0" if self.step == 0 else f"its estimate at k = {self.step - 1}"
+            return (f"the measurements contradict the model by k = {self.step}: the {self.estimator} "
+                    f"estimate, an outer bound of the exact posterior, is empty there; {y} lies "
+                    f"{self.distance:.3g} (∞-norm) outside the output set predicted from {before}")
         before = "the initial set X0" if self.step == 0 else f"y_0..y_{self.step - 1}"
-        return (f"the measurements contradict the model from k = {self.step}: y_{self.step} = "
-                f"{np.array2string(self.measurement, precision=4)} lies {self.distance:.3g} "
-                f"(∞-norm) outside the output set predicted from {before}")
+        return (f"the measurements contradict the model from k = {self.step}: {y} lies "
+                f"{self.distance:.3g} (∞-norm) outside the output set predicted from {before}")
 
 
 def _predicted_outputs(system, k: int, prior: ConvexSet) -> ConvexSet:
@@ -129,3 +149,43 @@ def report_inconsistency(found: Inconsistency | None, on_inconsistent: str) -> N
     warning = ModelInvalidationWarning(str(found))
     warning.inconsistency = found
     warnings.warn(warning, stacklevel=3)
+
+
+def check_on_inconsistent(on_inconsistent: Any) -> None:
+    """Raise ValueError unless ``on_inconsistent`` is one of `ON_INCONSISTENT`."""
+    if on_inconsistent not in ON_INCONSISTENT:
+        raise ValueError(f"on_inconsistent must be one of {ON_INCONSISTENT}, got {on_inconsistent!r}")
+
+
+def outer_inconsistency(system, X0: ConvexSet, ys: np.ndarray, estimates: list,
+                        estimator: str) -> Inconsistency | None:
+    """The first empty estimate of an outer-bound estimator, as an `Inconsistency`, or None.
+
+    The estimator marks an empty estimate as an `EmptySet` (``estimates[k]``, k indexing ``ys``). Each
+    estimate contains the exact posterior ⟦x_k | y_{0:k}⟧, so an empty one proves the data
+    inconsistent with the model by step k (non-emptiness proves nothing). The distance is that of y_k
+    from the output set predicted (stability (3)) from the estimate at k − 1 (from X0 at k = 0):
+    positive when the estimate is the update (4) of P_k or is contained in it, and never more than the
+    exact filter's distance at the same step.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The model the estimator ran on (for LSU models, their support system).
+    X0 : ConvexSet
+    ys : ndarray, shape (T+1, m)
+        The measurements, already checked.
+    estimates : list of ConvexSet
+    estimator : str
+        Its name, for the message.
+    """
+    k = next((k for k, S in enumerate(estimates) if isinstance(S, EmptySet)), None)
+    if k is None:
+        return None
+    from .classical import _predict
+
+    prior = X0 if k == 0 else _predict(system, k - 1, estimates[k - 1])
+    y = ys[k]
+    closest = _predicted_outputs(system, k, prior).center(method="closest", reference=y, norm=np.inf)
+    distance = float(np.abs(closest - y).max()) if np.all(np.isfinite(closest)) else np.inf
+    return Inconsistency(k, y, distance, estimator)

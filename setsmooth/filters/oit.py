@@ -23,12 +23,15 @@ from typing import Any
 import numpy as np
 
 from .._validation import as_measurements, check_system
+from ..results import SetEstimates, Tubes
 from ..sets.algebra import cartesian_product, linear_map
 from ..sets.box import Box
 from ..sets.base import ConvexSet
+from ..sets.empty import EmptySet
 from ..sets.reals import Reals
 from ._oit_support import Structure, structure, upsilon_inf
-from .classical import _check_state_set, _predict, _update
+from .classical import _check_state_set, _first_empty, _predict, _update
+from .consistency import check_on_inconsistent, outer_inconsistency, report_inconsistency
 
 __all__ = ["oit_inspired_filter", "oit_cz_filter", "OITResult"]
 
@@ -37,14 +40,21 @@ MAX_DOUBLINGS = 60
 
 
 @dataclass(frozen=True)
-class OITResult:
-    """What `oit_cz_filter` returns.
+class OITResult(Tubes):
+    """What `oit_cz_filter` returns: the `Estimates` protocol (``lo``, ``hi``, ``centers``,
+    ``diameters()``, ``first_empty``, ``contains_trajectory``, ``plot_tubes``; ``result[k]`` is Z_k)
+    and the algorithm's own record.
+
+    ``lo`` and ``hi`` are the certified hulls computed during the run when ``hulls=True`` (with their
+    timings), else the estimates' interval hulls, computed on first use. Every Z_k contains the exact
+    posterior ⟦x_k | y_{0:k}⟧ from k = δ̄ on, so an empty Z_k proves the data inconsistent with the
+    model; a non-empty one does not prove them consistent.
 
     Attributes
     ----------
-    estimates : list of ConstrainedZonotope
+    estimates : SetEstimates of ConstrainedZonotope
         Z_k for k = 0..T (extended CZs; from k = δ̄ on they all share one constraint matrix per
-        window prior, see `setsmooth.filters._window`).
+        window prior, see `setsmooth.filters._window`), with ``outer=True``.
     resets : list of int
         The steps k < δ̄ at which Z_k was empty and Line 5 reset it.
     thetas : dict
@@ -52,7 +62,8 @@ class OITResult:
     delta_bar : int
     hulls : tuple of ndarray or None
         (lo, hi), shape (T+1, n): certified interval hulls of the estimates, when requested (and always
-        computed for systems that are not observable, whose Lines 8–12 need them).
+        computed for systems that are not observable, whose Lines 8–12 need them); NaN rows at empty
+        estimates. ``lo`` and ``hi`` are the same arrays.
     alpha : ndarray, shape (T+1,)
         α_k of Line 12 for k ≥ δ̄ (NaN before, and for observable systems).
     c_obar : ndarray, shape (T+1, n − n_o)
@@ -73,9 +84,42 @@ class OITResult:
     step_seconds: np.ndarray = field(default_factory=lambda: np.zeros(0))
     hull_seconds: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
+    kind = "OIT-CZ"
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.estimates, SetEstimates):
+            object.__setattr__(self, "estimates", SetEstimates(self.estimates, kind=self.kind, outer=True))
+
+    @property
+    def lo(self) -> np.ndarray:
+        """Lower edges of the interval hulls, shape (T+1, n); NaN rows at empty estimates."""
+        return self.estimates.lo if self.hulls is None else self.hulls[0]
+
+    @property
+    def hi(self) -> np.ndarray:
+        """Upper edges of the interval hulls, shape (T+1, n); NaN rows at empty estimates."""
+        return self.estimates.hi if self.hulls is None else self.hulls[1]
+
+    @property
+    def system(self):
+        return self.estimates.system
+
+    def contains_trajectory(self, xs: Any, tol: float | None = None) -> np.ndarray:
+        """Whether each x_k lies in Z_k (exact membership; `SetEstimates.contains_trajectory`)."""
+        return self.estimates.contains_trajectory(xs, tol)
+
+    def __len__(self) -> int:
+        return len(self.estimates)
+
+    def __getitem__(self, k):
+        return self.estimates[k]
+
+    def __iter__(self):
+        return iter(self.estimates)
+
 
 def oit_inspired_filter(system, X0: ConvexSet, ys: Any, *, delta: int | None = None,
-                        decomposition=None) -> list[ConvexSet]:
+                        decomposition=None, on_inconsistent: str = "warn") -> SetEstimates:
     """Stability paper Algorithm 2 (OIT-inspired filtering) with exact sets of any representation.
 
     For k < k_s (k_s = ``delta``) the classical filter (Algorithm 1) from X0, where an empty estimate is
@@ -95,20 +139,30 @@ def oit_inspired_filter(system, X0: ConvexSet, ys: Any, *, delta: int | None = N
     decomposition : optional
         An observability decomposition (`setsmooth.analysis.observability_decomposition`) to use
         instead of computing one (e.g. MATLAB's P of the paper's Fig. 3).
+    on_inconsistent : {'warn', 'raise', 'ignore'}
+        What to do when an estimate is empty, which no reset repairs: from k_s on every estimate
+        contains the exact posterior, so the data contradict the model (a non-empty estimate does
+        not prove them consistent; `setsmooth.filters.consistency`). Before k_s an empty estimate is
+        reset (Line 5: the initial condition was wrong, not the model), unless no θ ≤ 2⁶⁰ gives a
+        non-empty one. 'warn' issues a `ModelInvalidationWarning` naming the first such step, its
+        measurement and its distance from the output set predicted from the estimate before it;
+        'raise' raises `ModelInvalidatedError`. The estimates are `EmptySet` from there on.
 
     Returns
     -------
-    list of ConvexSet
-        The estimates ⟦x̂_k | y_{0:k}⟧, k = 0..T.
+    SetEstimates
+        The estimates ⟦x̂_k | y_{0:k}⟧, k = 0..T (``outer=True``).
 
     Raises
     ------
     ValueError
-        If ``delta`` < k_*, the system is time varying, or no θ ≤ 2⁶⁰ gives a non-empty reset.
+        If ``delta`` < k_* or the system is time varying; `ModelInvalidatedError` (a ValueError) for
+        inconsistent data with ``on_inconsistent='raise'``.
     """
     check_system(system)
     ys = as_measurements(ys, system.m)
     _check_state_set(X0, "X0", system.n)
+    check_on_inconsistent(on_inconsistent)
     st = _structure(system, decomposition)
     k_s = st.k_star if delta is None else _check_int(delta, "delta", st.k_star)
     T = ys.shape[0] - 1
@@ -119,17 +173,29 @@ def oit_inspired_filter(system, X0: ConvexSet, ys: Any, *, delta: int | None = N
             prior = X0 if k == 0 else _predict(system, k - 1, estimates[-1])
             Z = _update(system, k, prior, ys[k])
             if Z.is_empty():
-                Z = _reset(system, ys, k, st, X0_obar)[0]
+                reset = _reset(system, ys, k, st, X0_obar)
+                if reset is None:  # no θ: the data contradict the model
+                    estimates += [EmptySet(system.n) for _ in range(k, T + 1)]
+                    break
+                Z = reset[0]
         elif k == k_s:
             Z = _run(system, ys, 0, k, _prior_from(st, Reals(st.n_o), X0_obar))
         else:
             Z = _update(system, k, _predict(system, k - 1, estimates[-1]), ys[k])
         estimates.append(Z)
-    return estimates
+    if T >= k_s and not isinstance(estimates[-1], EmptySet):
+        # From k_s on the estimates are one recursion: emptiness is monotone, settled by bisection.
+        first = k_s + _first_empty(estimates[k_s:])
+        estimates[first:] = [EmptySet(system.n) for _ in range(first, T + 1)]
+    result = SetEstimates(estimates, system=system, X0=X0, ys=ys, kind="OIT-inspired", outer=True)
+    if on_inconsistent != "ignore":
+        report_inconsistency(outer_inconsistency(system, X0, ys, result, "OIT-inspired"), on_inconsistent)
+    return result
 
 
 def oit_cz_filter(system, X0: ConvexSet, ys: Any, *, delta_bar: int | None = None,
-                  epsilon: float = 1e-3, decomposition=None, hulls: bool = False) -> OITResult:
+                  epsilon: float = 1e-3, decomposition=None, hulls: bool = False,
+                  on_inconsistent: str = "warn") -> OITResult:
     """Stability paper Algorithm 3: the OIT-inspired constrained-zonotopic SMF (OIT-CZ SMF).
 
     Lines 2–6 (k < δ̄): the exact CZ filter (20)–(21) from X0, reset by Line 5 when empty (θ-doubling);
@@ -156,7 +222,20 @@ def oit_cz_filter(system, X0: ConvexSet, ys: Any, *, delta_bar: int | None = Non
     decomposition : optional
         An observability decomposition to use instead of computing one.
     hulls : bool
-        Also return certified interval hulls of every estimate (``result.hulls``).
+        Compute the certified interval hulls of every estimate during the run, timed apart
+        (``result.hulls``, ``hull_seconds``). Without it ``result.lo``/``hi`` compute them on first
+        use.
+    on_inconsistent : {'warn', 'raise', 'ignore'}
+        What to do when an estimate is empty, which no reset repairs. From δ̄ on every Z_k contains
+        the exact posterior, so an empty Z_k proves the data inconsistent with the model (a non-empty
+        one does not prove them consistent; `setsmooth.filters.consistency`); before δ̄ an empty
+        estimate is reset (Line 5: the initial condition was wrong, not the model) unless no
+        θ ≤ 2⁶⁰ gives a non-empty one. 'warn' issues a `ModelInvalidationWarning` naming the first
+        such step, its measurement and its distance from the output set predicted from Z_{k−1};
+        'raise' raises `ModelInvalidatedError`. Empty estimates are `EmptySet`s (NaN hull rows); for
+        detectable systems, whose later windows are built from them, every later one too. Finding
+        them costs one emptiness program per step when the hulls are not computed (observable
+        systems without ``hulls=True``); 'ignore' skips it.
 
     Returns
     -------
@@ -165,8 +244,8 @@ def oit_cz_filter(system, X0: ConvexSet, ys: Any, *, delta_bar: int | None = Non
     Raises
     ------
     ValueError
-        On a time-varying system, sets without CZ form, δ̄ < k_*, ε ≤ 0, an undetectable (A, C), or
-        data no θ ≤ 2⁶⁰ makes consistent.
+        On a time-varying system, sets without CZ form, δ̄ < k_*, ε ≤ 0 or an undetectable (A, C);
+        `ModelInvalidatedError` (a ValueError) for inconsistent data with ``on_inconsistent='raise'``.
 
     Examples
     --------
@@ -184,6 +263,7 @@ def oit_cz_filter(system, X0: ConvexSet, ys: Any, *, delta_bar: int | None = Non
 
     ys = as_measurements(ys, system.m)
     _check_state_set(X0, "X0", system.n)
+    check_on_inconsistent(on_inconsistent)
     for name, S in (("X0", X0), ("system.W", system.W), ("system.V", system.V)):
         if S._flat_cz is None:
             raise ValueError(f"{name} must have a constrained-zonotope form for the OIT-CZ SMF, "
@@ -198,8 +278,12 @@ def oit_cz_filter(system, X0: ConvexSet, ys: Any, *, delta_bar: int | None = Non
         raise ValueError("(A, C) is not detectable: the unobservable part has an eigenvalue of modulus "
                          ">= 1, and Algorithm 3 needs a detectable pair")
     ups = 0.0 if st.observable else upsilon_inf(st.A_obar)
-    return run_oit_cz(system, X0.to_constrained_zonotope(), ys, st, delta_bar, float(epsilon), ups,
-                      hulls)
+    result = run_oit_cz(system, X0.to_constrained_zonotope(), ys, st, delta_bar, float(epsilon), ups,
+                        hulls, on_inconsistent != "ignore")
+    if on_inconsistent != "ignore":
+        found = outer_inconsistency(system, X0, ys, result.estimates, "OIT-CZ")
+        report_inconsistency(found, on_inconsistent)
+    return result
 
 
 # -- shared pieces -------------------------------------------------------------------------------------
@@ -242,7 +326,8 @@ def _run_with_prior(system, ys: np.ndarray, i: int, k: int, prior: ConvexSet):
 def _reset(system, ys: np.ndarray, k: int, st: Structure, X0_obar):
     """Line 5: F_{k,0}(P⁻¹(B_θ[0] × ⟦x̂_0^ō⟧)) for θ = 1, 2, 4, … until non-empty.
 
-    Returns (Z_k, the prior at k it came from, θ).
+    Returns (Z_k, the prior at k it came from, θ), or None when no θ ≤ 2^MAX_DOUBLINGS gives a
+    non-empty estimate: the measurements contradict the model.
     """
     theta = 1.0
     for _ in range(MAX_DOUBLINGS + 1):
@@ -251,6 +336,5 @@ def _reset(system, ys: np.ndarray, k: int, st: Structure, X0_obar):
         if not Z.is_empty():
             return Z, prior, theta
         theta *= 2.0
-    raise ValueError(f"Line 5: no box of half-width <= 2^{MAX_DOUBLINGS} in the observable coordinates "
-                     f"gives a non-empty estimate at k = {k}; the measurements contradict the model")
+    return None
 

@@ -13,7 +13,9 @@ from time import process_time as perf_counter  # CPU time: robust on a shared ma
 
 import numpy as np
 
+from ..results import SetEstimates
 from ..sets.algebra import linear_map
+from ..sets.empty import EmptySet
 from ..solvers.parametric import ParametricSupport
 from ._oit_support import Structure
 from ._window import Window
@@ -22,7 +24,12 @@ from .oit import OITResult, _reset
 
 
 def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilon: float,
-               upsilon: float, want_hulls: bool) -> OITResult:
+               upsilon: float, want_hulls: bool, check_empty: bool) -> OITResult:
+    """Algorithm 3 on checked arguments. An empty estimate (an empty window: the data contradict the
+    model) becomes an `EmptySet` with a NaN hull row; the hulls computed reveal it (support values
+    −inf), and with ``check_empty`` an emptiness program per step decides it where none is computed.
+    For a detectable system every later estimate is empty too (its windows start from this one's
+    hull); so is every estimate from a step whose Line 5 reset finds no θ."""
     n, T, d = system.n, ys.shape[0] - 1, delta_bar
     eye2 = np.vstack([np.eye(n), -np.eye(n)])
     estimates, resets, thetas = [], [], {}
@@ -36,7 +43,9 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
     line6: list[tuple[np.ndarray, np.ndarray]] = []  # T̂^ō_k of Line 6: (centre, half-widths), k < δ̄
 
     def result() -> OITResult:
-        return OITResult(estimates, resets, thetas, d, (lo, hi) if want_hulls else None, alpha, c_obar_all,
+        estimates.extend(EmptySet(n) for _ in range(len(estimates), T + 1))
+        sets = SetEstimates(estimates, system=system, X0=X0, ys=ys, kind="OIT-CZ", outer=True)
+        return OITResult(sets, resets, thetas, d, (lo, hi) if want_hulls else None, alpha, c_obar_all,
                          step_s, hull_s)
 
     # Lines 2–6: the exact CZ filter, reset when empty.
@@ -46,7 +55,10 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
         prior = X0 if k == 0 else _predict(system, k - 1, Z)
         Z = _update(system, k, prior, ys[k])
         if Z.is_empty():
-            Z, prior, thetas[k] = _reset(system, ys, k, st, X0_obar)
+            reset = _reset(system, ys, k, st, X0_obar)
+            if reset is None:  # no θ: the data contradict the model
+                return result()
+            Z, prior, thetas[k] = reset
             resets.append(k)
         if detectable:
             line6.append(_hull(linear_map(st.P_obar, prior), _pm(np.eye(n_obar))))
@@ -66,9 +78,15 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
             c, b, h, charges = window.charged_data(ys, k, window.centred_prior(ys, k), free)
             estimates.append(window.estimate_from(c, b, h, **charges))
             t1 = perf_counter()
+            empty = False
             if want_hulls:
-                lo[k], hi[k] = _bounds(engine.values(c, b, h, **charges), n)
+                values = engine.values(c, b, h, **charges)
+                empty = bool(np.isneginf(values).any())
+                if not empty:
+                    lo[k], hi[k] = _bounds(values, n)
             step_s[k], hull_s[k] = t1 - t0, perf_counter() - t1
+            if empty or (check_empty and not want_hulls and estimates[-1].is_empty()):
+                estimates[-1] = EmptySet(n)
         return result()
 
     # Lines 7–12 for a detectable (A, C); every hull is part of the algorithm here (step time).
@@ -103,6 +121,10 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
         Zk = window.estimate_from(c, b, h, **charges)
         estimates.append(Zk)
         values = engine.values(c, b, h, **charges)
+        if np.isneginf(values).any():  # an empty window, and every later window starts from it
+            estimates[-1] = EmptySet(n)
+            step_s[k] = perf_counter() - t0
+            return result()
         lo[k], hi[k] = _bounds(values[:2 * n], n)
         in_lo, in_hi = _bounds(values[2 * n:2 * n + 2 * n_obar], n_obar)
         # Line 9: IH(Ã_21 Z̃^o_k ⊕ B̃_ō W) = IH(Ã_21 Z̃^o_k) ⊕ IH(B̃_ō W).

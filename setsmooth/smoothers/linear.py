@@ -23,9 +23,11 @@ from typing import Any
 
 from .._validation import as_measurements, check_system
 from ..filters.classical import classical_filter
+from ..filters.consistency import check_on_inconsistent, first_inconsistency, report_inconsistency
 from ..results import SetEstimates
 from ..sets.algebra import generalized_intersection, minkowski_sum, translate
 from ..sets.base import ConvexSet
+from ..sets.empty import EmptySet
 from ..sets.polygon import Polygon
 from ..trajectories import trajectory_set
 
@@ -33,7 +35,8 @@ _METHODS = ("auto", "recursion", "trajectory")
 
 
 def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
-                     posteriors: list[ConvexSet] | None = None) -> SetEstimates:
+                     posteriors: list[ConvexSet] | None = None,
+                     on_inconsistent: str = "warn") -> SetEstimates:
     """Smoothed ranges ⟦x_k | y_{0:T}⟧ for k = 0..T (smoothing paper Corollary 1, Algorithm 1).
 
     Parameters
@@ -54,6 +57,14 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
         Output of `classical_filter` for the same data, to avoid filtering twice. Only the recursion
         uses them ('auto' then takes the recursion). A `SetEstimates` is checked against
         ``system``, ``X0`` and ``ys``; outer bounds (a reduced filter) give outer bounds.
+    on_inconsistent : {'warn', 'raise', 'ignore'}
+        What to do when the data contradict the model. Every smoothed set is then empty (no
+        trajectory explains y_{0:T}), which one emptiness program on ⟦x_T | y_{0:T}⟧ decides; the
+        sets are returned as `EmptySet`s, and 'warn' issues a `ModelInvalidationWarning` naming the
+        filter's first empty step, its measurement and its distance from the predicted output set
+        (`first_inconsistency`, from ``posteriors`` when they are the exact filter's); 'raise' raises
+        `ModelInvalidatedError`; 'ignore' skips the check. With outer-bound ``posteriors`` an empty
+        last posterior proves the inconsistency too; a non-empty one proves nothing.
 
     Returns
     -------
@@ -69,7 +80,9 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
     ValueError
         For an unknown ``method``, ``posteriors`` with ``method='trajectory'`` (that form never reads
         them), or ``posteriors`` of the wrong length or computed from other data (another system
-        object, other measurements or another X0), or an ``X0`` that is not a set of dimension n.
+        object, other measurements or another X0), or an ``X0`` that is not a set of dimension n;
+        `ModelInvalidatedError` (a ValueError) for inconsistent data with
+        ``on_inconsistent='raise'``.
 
     Examples
     --------
@@ -85,15 +98,18 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
     if method == "trajectory" and posteriors is not None:
         raise ValueError("posteriors= is only used by method='recursion'; the trajectory form never "
                          "reads them (pass method='recursion', or drop posteriors)")
+    check_on_inconsistent(on_inconsistent)
     ys = as_measurements(ys, check_system(system).m)
     if method == "auto":
         method = "trajectory" if posteriors is None else "recursion"
     if method == "trajectory":
         _check_state_set(X0, "X0", system.n)
-        return SetEstimates(smoothed_ranges_from_trajectories(trajectory_set(system, X0, ys), system.n),
-                            system=system, X0=X0, ys=ys, kind="smoothed")
-    if posteriors is None:
-        posteriors = classical_filter(system, X0, ys, form="recursion")   # Algorithm 1 reads these CZs
+        smoothed = SetEstimates(smoothed_ranges_from_trajectories(trajectory_set(system, X0, ys), system.n),
+                                system=system, X0=X0, ys=ys, kind="smoothed")
+        report_inconsistency(_emptied(smoothed, system, X0, ys, None, on_inconsistent), on_inconsistent)
+        return smoothed
+    if posteriors is None:   # Algorithm 1 reads these CZs; the smoother reports inconsistency itself
+        posteriors = classical_filter(system, X0, ys, form="recursion", on_inconsistent="ignore")
     elif len(posteriors) != len(ys):
         raise ValueError(f"posteriors must hold one set per measurement ({len(ys)}), got {len(posteriors)}")
     if isinstance(posteriors, SetEstimates):
@@ -112,7 +128,19 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
         from ..trajectories.recursion_certificates import certified_against_data
 
         smoothed = certified_against_data(smoothed, system, X0, ys, "smoothed")
-    return SetEstimates(smoothed, system=system, X0=X0, ys=ys, kind="smoothed", outer=outer)
+    smoothed = SetEstimates(smoothed, system=system, X0=X0, ys=ys, kind="smoothed", outer=outer)
+    report_inconsistency(_emptied(smoothed, system, X0, ys, posteriors, on_inconsistent), on_inconsistent)
+    return smoothed
+
+
+def _emptied(smoothed: SetEstimates, system, X0: ConvexSet, ys, posteriors, on_inconsistent: str):
+    """When ⟦x_T | y_{0:T}⟧ is empty every smoothed set is (no trajectory explains the data): mark them
+    `EmptySet` and return the filter's first inconsistency; else None (also with 'ignore')."""
+    if on_inconsistent == "ignore" or not len(smoothed) or not smoothed[-1].is_empty():
+        return None
+    smoothed[:] = [EmptySet(system.n) for _ in range(len(smoothed))]
+    exact = isinstance(posteriors, SetEstimates) and not posteriors.outer
+    return first_inconsistency(system, X0, ys, posteriors if exact else None)
 
 
 def smooth(system, posteriors: list[ConvexSet]) -> list[ConvexSet]:

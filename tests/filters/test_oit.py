@@ -100,7 +100,9 @@ def test_line5_gives_up_on_data_no_box_can_explain(monkeypatch):
     system = example_25()
     ys = np.array([[100.0], [0.0]])
     with pytest.raises(ValueError, match="contradict"):
-        ss.oit_cz_filter(system, box(1.0, 2), ys, delta_bar=1)
+        ss.oit_cz_filter(system, box(1.0, 2), ys, delta_bar=1, on_inconsistent="raise")
+    with pytest.warns(ss.ModelInvalidationWarning, match="contradict"):
+        assert ss.oit_cz_filter(system, box(1.0, 2), ys, delta_bar=1).first_empty == 0
 
 
 # -- detectable systems: Theorem 4 ---------------------------------------------------------------------

@@ -28,6 +28,7 @@ from ...sets.empty import EmptySet
 from ...sets.reduction import EliminateConstraints, Girard, Rescale
 from ...models.systems import LinearSystem
 from ..classical import classical_filter
+from ..consistency import Inconsistency, check_on_inconsistent, outer_inconsistency, report_inconsistency
 from .estimates import POINT_ESTIMATES, summarize
 from .model import LSUModel
 from .result import LSUResult
@@ -66,7 +67,7 @@ def lsu_cz_reduction(n: int, max_generators: int, max_constraints: int, rescale:
 def lsu_cz_filter(model: LSUModel, ys: Any, us: Any, *, max_generators: int = DEFAULT_MAX_GENERATORS,
                   max_constraints: int = DEFAULT_MAX_CONSTRAINTS, rescale: str = "iter",
                   estimates: tuple[str, ...] = POINT_ESTIMATES, std: bool = True,
-                  rng: np.random.Generator | None = None) -> LSUResult:
+                  rng: np.random.Generator | None = None, on_inconsistent: str = "warn") -> LSUResult:
     """Run LSU-CZ (LSU paper Algorithm 1) on one data sequence.
 
     Parameters
@@ -88,6 +89,13 @@ def lsu_cz_filter(model: LSUModel, ys: Any, us: Any, *, max_generators: int = DE
         Also compute the posterior standard deviations (`posterior_std`).
     rng : numpy.random.Generator, optional
         Only used for a centroid or spread that must be sampled (dimension > 6 or too many vertices).
+    on_inconsistent : {'warn', 'raise', 'ignore'}
+        What to do when a support is empty. Every support contains the exact set-membership
+        posterior, so an empty one proves the data inconsistent with the model (a non-empty one does
+        not prove them consistent; `setsmooth.filters.consistency`): 'warn' issues a
+        `ModelInvalidationWarning` naming the first such index i (``ys[i]``), the measurement and its
+        distance from the output set predicted from the support before it; 'raise' raises
+        `ModelInvalidatedError`.
 
     Returns
     -------
@@ -99,7 +107,8 @@ def lsu_cz_filter(model: LSUModel, ys: Any, us: Any, *, max_generators: int = DE
     Raises
     ------
     ValueError, TypeError
-        For data of the wrong shape, maxima that cannot be met, or an unknown estimate name.
+        For data of the wrong shape, maxima that cannot be met, or an unknown estimate name;
+        `ModelInvalidatedError` (a ValueError) for inconsistent data with ``on_inconsistent='raise'``.
 
     Examples
     --------
@@ -115,6 +124,7 @@ def lsu_cz_filter(model: LSUModel, ys: Any, us: Any, *, max_generators: int = DE
     if not isinstance(model, LSUModel):
         raise TypeError(f"model must be an LSUModel, got {type(model).__name__}")
     ys, us = model.check_data(ys, us)
+    check_on_inconsistent(on_inconsistent)
     methods = lsu_cz_reduction(model.n, max_generators, max_constraints, rescale)
     bad = [e for e in estimates if e not in POINT_ESTIMATES]
     if bad:
@@ -134,7 +144,16 @@ def lsu_cz_filter(model: LSUModel, ys: Any, us: Any, *, max_generators: int = DE
             spread[i] = s
     settings = {"max_generators": max_generators, "max_constraints": max_constraints, "rescale": rescale,
                 "reduction": [repr(m) for m in methods]}
+    if on_inconsistent != "ignore":
+        report_inconsistency(empty_support(model, ys, us, supports, "LSU-CZ"), on_inconsistent)
     return LSUResult("LSU-CZ", supports, points, spread, settings)
+
+
+def empty_support(model: LSUModel, ys: np.ndarray, us: np.ndarray, supports: list,
+                  name: str) -> Inconsistency | None:
+    """The first empty support of an LSU filter (an `EmptySet`) as an `Inconsistency` of the model's
+    support system (`outer_inconsistency`), or None."""
+    return outer_inconsistency(_support_system(model, us), model.prior, ys, supports, name)
 
 
 def _support_system(model: LSUModel, us: np.ndarray) -> LinearSystem:

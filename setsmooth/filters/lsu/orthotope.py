@@ -22,6 +22,8 @@ from ...sets.constrained_zonotope import ConstrainedZonotope
 from ...sets.empty import EmptySet
 from ...sets.cz_vertices import cz_vertices, vertex_bounds
 from ...sets.reduction import IntervalHull
+from ..consistency import check_on_inconsistent, report_inconsistency
+from .cz import empty_support
 from .estimates import posterior_std
 from .model import LSUModel
 from .result import LSUResult
@@ -29,7 +31,8 @@ from .result import LSUResult
 __all__ = ["lsuo_filter"]
 
 
-def lsuo_filter(model: LSUModel, ys: Any, us: Any, *, std: bool = True) -> LSUResult:
+def lsuo_filter(model: LSUModel, ys: Any, us: Any, *, std: bool = True,
+                on_inconsistent: str = "warn") -> LSUResult:
     """Run LSUO (the orthotopic LSU filter) on one data sequence.
 
     Parameters
@@ -39,6 +42,13 @@ def lsuo_filter(model: LSUModel, ys: Any, us: Any, *, std: bool = True) -> LSURe
     us : array_like, shape (t̄, ℓ_u)
     std : bool
         Also return the posterior standard deviations (w/√12 per component).
+    on_inconsistent : {'warn', 'raise', 'ignore'}
+        What to do when a support is empty. Every support contains the exact set-membership
+        posterior, so an empty one proves the data inconsistent with the model (a non-empty one does
+        not prove them consistent; `setsmooth.filters.consistency`): 'warn' issues a
+        `ModelInvalidationWarning` naming the first such index i (``ys[i]``), the measurement and its
+        distance from the output set predicted from the support before it; 'raise' raises
+        `ModelInvalidatedError`.
 
     Returns
     -------
@@ -60,6 +70,7 @@ def lsuo_filter(model: LSUModel, ys: Any, us: Any, *, std: bool = True) -> LSURe
     if not isinstance(model, LSUModel):
         raise TypeError(f"model must be an LSUModel, got {type(model).__name__}")
     ys, us = model.check_data(ys, us)
+    check_on_inconsistent(on_inconsistent)
     hull = IntervalHull()
     W = model.W
     supports = []
@@ -72,6 +83,8 @@ def lsuo_filter(model: LSUModel, ys: Any, us: Any, *, std: bool = True) -> LSURe
             supports += [EmptySet(model.n) for _ in range(len(ys) - t)]
             break
         supports.append(post)
+    if on_inconsistent != "ignore":
+        report_inconsistency(empty_support(model, ys, us, supports, "LSUO"), on_inconsistent)
     return _box_result("LSUO", supports, model.n, std)
 
 

@@ -44,6 +44,8 @@ from ...sets.empty import EmptySet
 from ...sets.reduction._base import abs_sum_upper
 from ...sets.cz_vertices import cz_vertices, vertex_bounds
 from ...sets.zonotope import Zonotope
+from ..consistency import check_on_inconsistent, report_inconsistency
+from .cz import empty_support
 from .model import LSUModel
 from .result import LSUResult
 
@@ -54,7 +56,7 @@ CONSTRUCTIONS = ("min_volume", "kept_shape")
 
 
 def lsup_filter(model: LSUModel, ys: Any, us: Any, *, construction: str = "min_volume",
-                std: bool = True) -> LSUResult:
+                std: bool = True, on_inconsistent: str = "warn") -> LSUResult:
     """Run LSUP (the parallelotopic LSU filter) on one data sequence.
 
     Parameters
@@ -67,6 +69,13 @@ def lsup_filter(model: LSUModel, ys: Any, us: Any, *, construction: str = "min_v
         (see the module docstring).
     std : bool
         Also return the posterior standard deviations (Cov = TTᵀ/3).
+    on_inconsistent : {'warn', 'raise', 'ignore'}
+        What to do when a support is empty. Every support contains the exact set-membership
+        posterior, so an empty one proves the data inconsistent with the model (a non-empty one does
+        not prove them consistent; `setsmooth.filters.consistency`): 'warn' issues a
+        `ModelInvalidationWarning` naming the first such index i (``ys[i]``), the measurement and its
+        distance from the output set predicted from the support before it; 'raise' raises
+        `ModelInvalidatedError`.
 
     Returns
     -------
@@ -90,6 +99,7 @@ def lsup_filter(model: LSUModel, ys: Any, us: Any, *, construction: str = "min_v
     ys, us = model.check_data(ys, us)
     if construction not in CONSTRUCTIONS:
         raise ValueError(f"construction must be one of {CONSTRUCTIONS}, got {construction!r}")
+    check_on_inconsistent(on_inconsistent)
     kept = construction == "kept_shape"
     prior = model.prior
     P = Zonotope._trusted(np.diag(prior.widths() / 2), prior.midpoint())
@@ -108,6 +118,8 @@ def lsup_filter(model: LSUModel, ys: Any, us: Any, *, construction: str = "min_v
         spread = np.array([np.full(model.n, np.nan) if isinstance(S, EmptySet)
                            else np.sqrt(np.sum(S.G * S.G, axis=1) / 3.0) for S in supports])
     centers = np.array([np.full(model.n, np.nan) if isinstance(S, EmptySet) else S.c for S in supports])
+    if on_inconsistent != "ignore":
+        report_inconsistency(empty_support(model, ys, us, supports, "LSUP"), on_inconsistent)
     return LSUResult("LSUP", supports, {"center": centers}, spread, {"construction": construction})
 
 

@@ -1,0 +1,107 @@
+"""Model invalidation everywhere: every set-membership estimator says when the data contradict the model.
+
+One plant, one sensor fault (an offset of 3 from k = 30, the noise bound being 0.1), and each estimator:
+the exact filter and the smoothers (exact: empty exactly when the data are inconsistent), the OIT and
+LSU filters (outer bounds: empty only when they are). Each names k = 30 and y_30 with the same warning
+class, raises with ``on_inconsistent='raise'`` and is silent on consistent data.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import control
+import numpy as np
+import pytest
+
+import setsmooth as ss
+
+A = np.array([[1.0, 0.1], [-0.2, 0.95]])
+FAULT_STEP = 30
+
+
+@pytest.fixture(scope="module")
+def data():
+    """The plant x⁺ = A x + 0.1 w, y = x_1 + v, |w| ≤ 1, |v| ≤ 0.1, as a system and as an LSU model."""
+    plant = control.ss(A, 0.1 * np.eye(2), [[1.0, 0.0]], 0, dt=True)
+    system = ss.LinearSystem.from_statespace(plant, W=ss.Box([-1, -1], [1, 1]), V=ss.Box([-0.1], [0.1]))
+    model = ss.LSUModel(A=A, B=np.zeros((2, 1)), C=[[1.0, 0.0]], omega=[0.1, 0.1], v=[0.1],
+                        x1_lo=[-1, -1], x1_hi=[1, 1])
+    X0 = ss.Box([-1, -1], [1, 1])
+    xs, ys = ss.simulate(system, X0, 40, np.random.default_rng(1))
+    faulty = ys.copy()
+    faulty[FAULT_STEP:] += 3.0
+    return system, model, X0, xs, ys, faulty
+
+
+ESTIMATORS = {
+    "optimal_smoother trajectory": lambda d, ys, **kw: ss.optimal_smoother(d[0], d[2], ys, **kw),
+    "optimal_smoother recursion": lambda d, ys, **kw: ss.optimal_smoother(d[0], d[2], ys,
+                                                                          method="recursion", **kw),
+    "oit_cz_filter": lambda d, ys, **kw: ss.oit_cz_filter(d[0], d[2], ys, **kw),
+    "oit_cz_filter hulls": lambda d, ys, **kw: ss.oit_cz_filter(d[0], d[2], ys, hulls=True, **kw),
+    "oit_inspired_filter": lambda d, ys, **kw: ss.oit_inspired_filter(d[0], d[2], ys, **kw),
+    "lsu_cz_filter": lambda d, ys, **kw: ss.lsu_cz_filter(d[1], ys, np.zeros((len(ys), 1)), **kw),
+    "lsuo_filter": lambda d, ys, **kw: ss.lsuo_filter(d[1], ys, np.zeros((len(ys), 1)), **kw),
+    "lsup_filter": lambda d, ys, **kw: ss.lsup_filter(d[1], ys, np.zeros((len(ys), 1)), **kw),
+}
+
+
+@pytest.mark.parametrize("name", ESTIMATORS)
+def test_a_sensor_fault_is_reported_at_its_step_by_every_estimator(data, name):
+    faulty = data[5]
+    with pytest.warns(ss.ModelInvalidationWarning, match=rf"k = {FAULT_STEP}\b") as record:
+        result = ESTIMATORS[name](data, faulty)
+    found = [w.message.inconsistency for w in record if isinstance(w.message, ss.ModelInvalidationWarning)]
+    assert len(found) == 1, "one warning per estimator call"
+    assert found[0].step == FAULT_STEP and np.array_equal(found[0].measurement, faulty[FAULT_STEP])
+    # the offset minus what the predicted output set absorbs: positive, at most the offset
+    assert 0.0 < found[0].distance <= 3.0
+    expected_first = 0 if name.startswith("optimal_smoother") else FAULT_STEP  # a smoothed set uses all data
+    assert result.first_empty == expected_first
+    assert isinstance(result[FAULT_STEP], ss.EmptySet)
+    with pytest.raises(ss.ModelInvalidatedError, match=rf"k = {FAULT_STEP}\b"):
+        ESTIMATORS[name](data, faulty, on_inconsistent="raise")
+
+
+@pytest.mark.parametrize("name", ESTIMATORS)
+def test_consistent_data_give_no_warning(data, name):
+    _, _, _, xs, ys, _ = data
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ss.ModelInvalidationWarning)
+        result = ESTIMATORS[name](data, ys)
+    assert not any(isinstance(S, ss.EmptySet) for S in result)
+
+
+def test_outer_bound_verdicts_say_what_they_prove(data):
+    _, _, _, _, _, faulty = data
+    with pytest.warns(ss.ModelInvalidationWarning) as record:
+        ss.lsuo_filter(data[1], faulty, np.zeros((len(faulty), 1)))
+    found = record[0].message.inconsistency
+    assert found.estimator == "LSUO" and "outer bound" in str(found)
+    # the exact filter's verdict at the same step: the outer prediction is larger, its miss no larger
+    exact = ss.first_inconsistency(data[0], data[2], faulty)
+    assert exact.step == found.step and found.distance <= exact.distance + 1e-9
+
+
+def test_ignore_is_silent_and_unknown_values_are_refused(data):
+    _, _, _, _, _, faulty = data
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ss.ModelInvalidationWarning)
+        for name in ("oit_cz_filter", "lsup_filter", "optimal_smoother trajectory"):
+            ESTIMATORS[name](data, faulty, on_inconsistent="ignore")
+    for name in ESTIMATORS:
+        with pytest.raises(ValueError, match="on_inconsistent"):
+            ESTIMATORS[name](data, faulty[:5], on_inconsistent="loud")
+
+
+def test_line5_failure_is_an_inconsistency_not_a_crash(monkeypatch):
+    from setsmooth.filters import oit
+
+    monkeypatch.setattr(oit, "MAX_DOUBLINGS", 3)  # θ ≤ 8 cannot reach y_0 = 100
+    plant = control.ss([[1.0, 1.0], [0.0, 1.0]], [[0.5], [1.0]], [[1.0, 0.0]], 0, dt=True)
+    system = ss.LinearSystem.from_statespace(plant, W=ss.Box([-1.0], [1.0]), V=ss.Box([-1.0], [1.0]))
+    ys = np.array([[100.0], [0.0]])
+    with pytest.warns(ss.ModelInvalidationWarning, match="k = 0"):
+        result = ss.oit_cz_filter(system, ss.Box([-1, -1], [1, 1]), ys, delta_bar=1)
+    assert all(isinstance(S, ss.EmptySet) for S in result) and result.first_empty == 0
