@@ -153,6 +153,8 @@ def empty_support(model: LSUModel, ys: np.ndarray, us: np.ndarray, supports: lis
                   name: str) -> Inconsistency | None:
     """The first empty support of an LSU filter (an `EmptySet`) as an `Inconsistency` of the model's
     support system (`outer_inconsistency`), or None."""
+    if not any(isinstance(S, EmptySet) for S in supports):  # consistent runs build no system
+        return None
     return outer_inconsistency(_support_system(model, us), model.prior, ys, supports, name)
 
 
