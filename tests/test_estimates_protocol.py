@@ -22,7 +22,8 @@ A = np.array([[1.0, 0.1], [-0.2, 0.95]])
 
 def _linear():
     plant = control.ss(A, 0.1 * np.eye(2), [[1.0, 0.0]], 0, dt=True)
-    system = ss.LinearSystem.from_statespace(plant, W=ss.Box([-1, -1], [1, 1]), V=ss.Box([-0.1], [0.1]))
+    system = ss.LinearSystem.from_statespace(plant, W=ss.Box([-1, -1], [1, 1]), V=ss.Box([-0.1], [0.1]),
+                                             noise_inputs=[0, 1])
     X0 = ss.Box([-1, -1], [1, 1])
     xs, ys = ss.simulate(system, X0, T, np.random.default_rng(2))
     return system, X0, xs, ys

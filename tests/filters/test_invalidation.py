@@ -24,7 +24,8 @@ FAULT_STEP = 30
 def data():
     """The plant x⁺ = A x + 0.1 w, y = x_1 + v, |w| ≤ 1, |v| ≤ 0.1, as a system and as an LSU model."""
     plant = control.ss(A, 0.1 * np.eye(2), [[1.0, 0.0]], 0, dt=True)
-    system = ss.LinearSystem.from_statespace(plant, W=ss.Box([-1, -1], [1, 1]), V=ss.Box([-0.1], [0.1]))
+    system = ss.LinearSystem.from_statespace(plant, W=ss.Box([-1, -1], [1, 1]), V=ss.Box([-0.1], [0.1]),
+                                             noise_inputs=[0, 1])
     model = ss.LSUModel(A=A, B=np.zeros((2, 1)), C=[[1.0, 0.0]], omega=[0.1, 0.1], v=[0.1],
                         x1_lo=[-1, -1], x1_hi=[1, 1])
     X0 = ss.Box([-1, -1], [1, 1])
@@ -100,7 +101,8 @@ def test_line5_failure_is_an_inconsistency_not_a_crash(monkeypatch):
 
     monkeypatch.setattr(oit, "MAX_DOUBLINGS", 3)  # θ ≤ 8 cannot reach y_0 = 100
     plant = control.ss([[1.0, 1.0], [0.0, 1.0]], [[0.5], [1.0]], [[1.0, 0.0]], 0, dt=True)
-    system = ss.LinearSystem.from_statespace(plant, W=ss.Box([-1.0], [1.0]), V=ss.Box([-1.0], [1.0]))
+    system = ss.LinearSystem.from_statespace(plant, W=ss.Box([-1.0], [1.0]), V=ss.Box([-1.0], [1.0]),
+                                             noise_inputs=[0])
     ys = np.array([[100.0], [0.0]])
     with pytest.warns(ss.ModelInvalidationWarning, match="k = 0"):
         result = ss.oit_cz_filter(system, ss.Box([-1, -1], [1, 1]), ys, delta_bar=1)
