@@ -99,6 +99,9 @@ def _predicted_outputs(system, k: int, prior: ConvexSet) -> ConvexSet:
 def _first_empty(estimates: SetEstimates) -> int | None:
     """The first empty set's index: where the filter marked it (an `EmptySet` from there on, as
     ``detect_empty`` does), else by the interval hulls (``first_empty``, one program per set)."""
+    if getattr(estimates, "kind", "") == "smoothed":
+        raise ValueError("estimates must be a filter's sets: smoothed sets are all empty or none is, so "
+                         "they do not locate the first inconsistent step (pass the filter's, or none)")
     marked = [k for k, S in enumerate(estimates) if isinstance(S, EmptySet)]
     return marked[0] if marked else estimates.first_empty
 
@@ -114,7 +117,9 @@ def first_inconsistency(system, X0: ConvexSet, ys: Any,
     X0 : ConvexSet
     ys : array_like, shape (T+1, m)
     estimates : SetEstimates, optional
-        The exact filter's sets on these data, when already computed (`classical_filter`).
+        The exact filter's sets on these data, when already computed (`classical_filter`); an
+        outer-bound filter's (`oit_cz_filter`, a reduced filter) give its first empty step, which may
+        come later. Not a smoother's: its sets are all empty or none is (ValueError).
 
     Returns
     -------

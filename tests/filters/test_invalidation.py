@@ -107,3 +107,12 @@ def test_line5_failure_is_an_inconsistency_not_a_crash(monkeypatch):
     with pytest.warns(ss.ModelInvalidationWarning, match="k = 0"):
         result = ss.oit_cz_filter(system, ss.Box([-1, -1], [1, 1]), ys, delta_bar=1)
     assert all(isinstance(S, ss.EmptySet) for S in result) and result.first_empty == 0
+
+
+def test_the_helper_refuses_smoothed_sets_which_do_not_locate_the_step(data):
+    system, _, X0, _, _, faulty = data
+    with pytest.warns(ss.ModelInvalidationWarning):
+        smoothed = ss.optimal_smoother(system, X0, faulty)
+    with pytest.raises(ValueError, match="filter's sets"):
+        ss.first_inconsistency(system, X0, faulty, smoothed)
+    assert ss.first_inconsistency(system, X0, faulty).step == FAULT_STEP
