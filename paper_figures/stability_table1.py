@@ -64,7 +64,7 @@ def measure(rng: np.random.Generator, n: int, T: int) -> dict:
         lo, hi = np.array([h.lo for h in hulls]), np.array([h.hi for h in hulls])
         out[name] = _summary((t1 - t0) / (T + 1), (t2 - t1) / (T + 1), lo, hi, xs)
     res = ss.oit_cz_filter(system, X0, ys, delta_bar=DELTA_BAR, decomposition=drawn.decomposition, hulls=True)
-    out["oit"] = _summary(res.step_seconds.mean(), res.hull_seconds.mean(), *res.hulls, xs)
+    out["oit"] = _summary(res.step_seconds.mean(), res.hull_seconds.mean(), res.lo, res.hi, xs)
     out["oit"]["step_steady"] = float(np.median(res.step_seconds[DELTA_BAR:]))
     return out
 
