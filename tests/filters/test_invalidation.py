@@ -116,3 +116,23 @@ def test_the_helper_refuses_smoothed_sets_which_do_not_locate_the_step(data):
     with pytest.raises(ValueError, match="filter's sets"):
         ss.first_inconsistency(system, X0, faulty, smoothed)
     assert ss.first_inconsistency(system, X0, faulty).step == FAULT_STEP
+
+
+def test_a_detectable_system_reports_the_fault_and_stays_empty_after_it():
+    # x_0 is unobservable (eigenvalue 0.5): the OIT-CZ's later windows start from earlier hulls
+    plant = control.ss([[0.5, 1.0], [0.0, 1.0]], [[0.5], [1.0]], [[0.0, 1.0]], 0, dt=True)
+    system = ss.LinearSystem.from_statespace(plant, W=ss.Box([-1.0], [1.0]), V=ss.Box([-1.0], [1.0]),
+                                             noise_inputs=[0])
+    X0 = ss.Box([-1, -1], [1, 1])
+    xs, ys = ss.simulate(system, X0, 36, np.random.default_rng(5))
+    faulty = ys.copy()
+    faulty[FAULT_STEP:] += 10.0
+    for hulls in (False, True):
+        with pytest.warns(ss.ModelInvalidationWarning, match=rf"k = {FAULT_STEP}\b"):
+            result = ss.oit_cz_filter(system, X0, faulty, hulls=hulls)
+        assert result.first_empty == FAULT_STEP
+        assert all(isinstance(S, ss.EmptySet) for S in result[FAULT_STEP:])
+        assert np.isnan(result.lo[FAULT_STEP:]).all() and np.isfinite(result.lo[:FAULT_STEP]).all()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ss.ModelInvalidationWarning)
+        assert ss.oit_cz_filter(system, X0, ys).contains_trajectory(xs).all()
