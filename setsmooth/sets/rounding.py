@@ -163,6 +163,33 @@ def residual_bound(pairs) -> np.ndarray:
     return row_sums_bound(np.hstack(columns), np.hstack(values))
 
 
+def residual_bounds(residuals: list) -> list[np.ndarray]:
+    """`residual_bound` of every entry of ``residuals`` (each a list of (M, v) pairs as there), bit
+    for bit, with one Dot2 pass over all the rows of the residuals that have the same number of
+    terms (rows are independent in Dot2; only the number of terms enters the bound)."""
+    blocks = []
+    for pairs in residuals:
+        columns, values = [], []
+        for M, v in pairs:
+            M, v = np.asarray(M, dtype=float), np.asarray(v, dtype=float)
+            if M.ndim == 1:
+                columns.append(M[:, None])
+                values.append(v[:, None])
+            else:
+                columns.append(M)
+                values.append(np.broadcast_to(v, M.shape))
+        blocks.append((np.hstack(columns), np.hstack(values)))
+    out: list = [None] * len(blocks)
+    for width in {X.shape[1] for X, _ in blocks}:
+        same = [i for i, (X, _) in enumerate(blocks) if X.shape[1] == width]
+        bounds = row_sums_bound(np.vstack([blocks[i][0] for i in same]),
+                                np.vstack([blocks[i][1] for i in same]))
+        ends = np.cumsum([blocks[i][0].shape[0] for i in same])[:-1]
+        for i, part in zip(same, np.split(bounds, ends)):
+            out[i] = part
+    return out
+
+
 _U_EXT = float(np.finfo(np.longdouble).eps) / 2  # the extended format's unit roundoff (2⁻⁶⁴ on x86)
 
 

@@ -179,7 +179,7 @@ class CZProgram:
         four times the certificate's own rounding allowance (``rounding``, from `certified_bound`)
         and ``SUPPORT_GAP_FLOOR``·(|L| + |U|) for the rounding of L itself. A floor tied to the
         certificate's actual rounding, not to the magnitude alone, keeps a state far from the
-        origin from hiding a loose answer (evidence: docs/numerical_core.md, “Evidence behind the choices”)."""
+        origin from hiding a loose answer (docs/numerical_core.md)."""
         magnitude = np.abs(lower) + np.abs(upper)
         scale = magnitude.copy()
         rows = {(row + 0.0).tobytes(): i for i, row in enumerate(D)}  # + 0.0: −0.0 reads as 0.0
@@ -191,6 +191,13 @@ class CZProgram:
         if rounding is not None:
             floor = floor + 4.0 * rounding
         return tol.SUPPORT_GAP_TOL * scale + floor
+
+    def support_points_and_bounds(self, D: np.ndarray
+                                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+        """`support_and_bounds` with the maximizers: (values, points, bounds or None), one set of
+        solves; every value is checked against its bound as in `support`."""
+        (values, points, _, _), bounds = self._verified(D, self._solve(D, False, True), False)
+        return values, points, bounds
 
     def solutions(self, D: np.ndarray) -> list[SupportSolution]:
         """`SupportSolution` (value, point, factors, multipliers) for every row of ``D``, each

@@ -1,0 +1,93 @@
+"""Hulls along time: the windowed brackets give each posterior's own hull, at a cost that stays flat."""
+
+import numpy as np
+import pytest
+
+import setsmooth as ss
+import setsmooth.filters.hulls_along_time as along
+from setsmooth.filters.hulls_along_time import GAP_TOL, filtered_hulls
+from setsmooth.papers.smoothing_examples import smoothing_example_31, smoothing_example_31_x0
+from setsmooth.reliability.random_systems import base_case, in_regime
+
+
+def _bounds(hulls):
+    return np.array([h.lo for h in hulls]), np.array([h.hi for h in hulls])
+
+
+def _own_hulls(system, X0, ys):
+    """{certified: hulls} of each posterior's own program (plain and certified from one set of solves)."""
+    posteriors = ss.classical_filter(system, X0, ys)
+    return {flag: [P.interval_hull(certified=flag) for P in posteriors] for flag in (False, True)}
+
+
+def _assert_same_hulls(system, X0, ys, xs):
+    own = _own_hulls(system, X0, ys)
+    plain_lo, plain_hi = _bounds(own[False])
+    for certified in (True, False):
+        lo, hi = _bounds(filtered_hulls(system, X0, ys, certified=certified, progress=False))
+        own_lo, own_hi = _bounds(own[certified])
+        width = own_hi - own_lo
+        assert np.all(np.abs(lo - own_lo) <= 1e-6 * width), certified
+        assert np.all(np.abs(hi - own_hi) <= 1e-6 * width), certified
+        if certified:  # sound: the truth inside, and nothing inside the posterior's plain hull
+            assert np.all(lo <= plain_lo + 1e-9 * width) and np.all(hi >= plain_hi - 1e-9 * width)
+            assert np.all((lo <= xs) & (xs <= hi))
+
+
+def test_windowed_hulls_equal_each_posteriors_own_hull_on_example_31():
+    system, X0 = smoothing_example_31(), smoothing_example_31_x0()
+    xs, ys = ss.simulate(system, X0, 16, np.random.default_rng(4))
+    _assert_same_hulls(system, X0, ys, xs)
+
+
+@pytest.mark.parametrize("index, regime", [(3, "scale1"), (5, "scale1e-06"), (1, "offset1e+06"),
+                                           (8, "scale1e+03")])
+def test_windowed_hulls_equal_own_hulls_on_random_systems_in_every_regime(index, regime):
+    """CZ and box noises (indices 5..9 have CZ noises), thin, offset and large data."""
+    case = in_regime(base_case(2026, index, T_range=(14, 14)), regime)
+    _assert_same_hulls(case.system, case.X0, case.ys, case.xs)
+
+
+def test_windows_stay_short_on_a_detectable_system(monkeypatch):
+    """The cost per step is flat because the bracket closes in a window of bounded length."""
+    lengths = []
+    settle = along._settle
+
+    def spy(*args):
+        out = settle(*args)
+        lengths.append(out[1])
+        return out
+
+    monkeypatch.setattr(along, "_settle", spy)
+    system, X0 = smoothing_example_31(), smoothing_example_31_x0()
+    _, ys = ss.simulate(system, X0, 40, np.random.default_rng(5))
+    filtered_hulls(system, X0, ys, progress=False)
+    assert max(lengths) <= 2 * along.FIRST_WINDOW
+
+
+def test_an_unclosable_bracket_falls_back_to_the_posteriors_own_program(monkeypatch):
+    """A bracket that never closes (tolerance 0 and below) ends at window start 0: the exact program."""
+    monkeypatch.setattr(along, "GAP_TOL", -1.0)
+    system, X0 = smoothing_example_31(), smoothing_example_31_x0()
+    xs, ys = ss.simulate(system, X0, 12, np.random.default_rng(6))
+    lo, hi = _bounds(filtered_hulls(system, X0, ys, certified=True, progress=False))
+    own_lo, own_hi = _bounds(_own_hulls(system, X0, ys)[True])
+    width = own_hi - own_lo
+    assert np.all(np.abs(lo - own_lo) <= 1e-9 * width) and np.all(np.abs(hi - own_hi) <= 1e-9 * width)
+
+
+def test_contradicting_data_give_empty_hulls_from_the_first_empty_posterior():
+    system, X0 = smoothing_example_31(), smoothing_example_31_x0()
+    xs, ys = ss.simulate(system, X0, 20, np.random.default_rng(7))
+    ys = ys.copy()
+    ys[15] += 50.0  # far outside every predicted output
+    hulls = filtered_hulls(system, X0, ys, progress=False)
+    first = next(k for k, h in enumerate(hulls) if h.is_empty())
+    assert first == 15 and all(h.is_empty() for h in hulls[15:])
+    with pytest.warns(ss.ModelInvalidationWarning):
+        own = _own_hulls(system, X0, ys)[True]
+    assert next(k for k, h in enumerate(own) if h.is_empty()) == 15
+
+
+def test_gap_tolerance_is_below_the_accuracy_the_hulls_are_held_to():
+    assert 0 < GAP_TOL <= 1e-7
