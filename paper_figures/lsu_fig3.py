@@ -20,6 +20,7 @@ from _outputs import Stopwatch, cli, finish, row
 NAME = "lsu_fig3"
 PAPER = ex.PAPER
 DEFAULT_RUNS = 3
+AFTER = ("lsu_fig2",)     # the shared experiment: see lsu_fig2.AFTER
 
 
 def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, workers: int | None = None,

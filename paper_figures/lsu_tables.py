@@ -19,6 +19,7 @@ from _outputs import Stopwatch, cli, finish, row
 NAME = "lsu_tables"
 PAPER = ex.PAPER
 DEFAULT_RUNS = 3
+AFTER = ("lsu_fig3",)     # the shared experiment: see lsu_fig2.AFTER
 
 
 def table_rows(exp: dict, metric: str, published: dict, label: str) -> tuple[list[dict], dict]:

@@ -34,6 +34,8 @@ import smoothing_fig4
 NAME = "smoothing_fig5"
 PAPER = ex.PAPER
 DEFAULT_RUNS = 300
+#: Reads Fig. 3's saved runs and Fig. 4's tuning when they match (`setsmooth figures` runs those first).
+AFTER = ("smoothing_fig3", "smoothing_fig4")
 
 
 def trial(rng: np.random.Generator, q: float, r: float) -> dict:

@@ -13,6 +13,14 @@ Table 1 runs the paper's 101 steps with 2 runs by default (its radii need a stan
 180 CPU-seconds a run, most of it the OIT-CZ's certified hulls at n = 30; it uses min(N, 100) runs,
 the paper's size.
 
+Scheduling: with two or more workers (``--workers W``, default 2) and two or more scripts, every script
+runs in its own process, W of them at a time, started longest first by the costs measured in
+``paper_figures/costs.json`` and each after the scripts whose outputs it reads (its ``AFTER``); all
+their Monte Carlo workers share W slots, so at most W processes compute at once
+(`setsmooth.runs.figure_processes`). One progress bar counts tasks: a script, or one Monte Carlo
+run of it. Otherwise (one script, one worker, or ``--scheduler``) the scripts run one after the other in
+this process, in the same order, each with its own bar of runs.
+
 ``--scheduler ADDRESS`` sends the runs to a Dask cluster instead of local processes (the
 ``setsmooth[dask]`` extra; every worker needs ``setsmooth`` installed). Results are bit-identical to a
 local run: run i always uses the i-th child of the root seed.
@@ -124,9 +132,12 @@ def run_figures(names: list[str], figures_dir: Path, out: Path, runs: int | None
     to the scripts' `_outputs.write_outputs` through ``$SETSMOOTH_FIGURE_FORMATS`` for this call.
     ``blas_threads``: limit the BLAS libraries to this many threads for this call (`blas_limit`);
     None leaves them as they are.
+    Without an executor, with ``workers`` (default 2) above one and several scripts, the scripts run in
+    processes of their own (`setsmooth.runs.figure_processes.run_scheduled`); the wall times are then
+    in the order the scripts started.
     """
     with _environment({FORMATS_ENV: ",".join(formats or ["png"])}), blas_limit(blas_threads):
-        return _run_figures(names, figures_dir, out, runs, seed, workers, progress, executor)
+        return _run_figures(names, figures_dir, out, runs, seed, workers, progress, executor, blas_threads)
 
 
 #: The variables BLAS libraries read when they load (in this process later, or in a worker process).
@@ -165,14 +176,26 @@ def _environment(values: dict[str, str]):
                 os.environ[name] = value
 
 
-def _run_figures(names, figures_dir, out, runs, seed, workers, progress, executor):
+def _run_figures(names, figures_dir, out, runs, seed, workers, progress, executor, blas_threads):
+    from .schedule import plan, read_after, read_costs
+
+    costs, after = read_costs(figures_dir), read_after(figures_dir, names)
+    n_workers = workers or min(2, os.cpu_count() or 1)
+    if executor is None and n_workers > 1 and len(names) > 1:
+        from .figure_processes import run_scheduled
+
+        environment = {name: os.environ[name] for name in (FORMATS_ENV, *BLAS_ENV) if name in os.environ}
+        outcome = run_scheduled(names, figures_dir, out, runs, seed, n_workers, progress, costs, after,
+                                environment, blas_threads)
+        return outcome, _report(figures_dir, out)
     if str(figures_dir) not in sys.path:
         # The scripts import their sibling helpers, and pool workers unpickle trials by module name.
         sys.path.insert(0, str(figures_dir))
     if executor is not None and hasattr(executor, "upload_file"):
         _upload_scripts(executor, figures_dir)
     outcome: dict[str, float | str] = {}
-    for name in names:
+    # One after the other, each after the scripts it reads (`schedule.plan`).
+    for name in plan(names, costs, after):
         print(f"== {name}", flush=True)
         start = time.perf_counter()
         kwargs = {"seed": seed, "out": out, "workers": workers, "progress": progress}
@@ -190,8 +213,13 @@ def _run_figures(names, figures_dir, out, runs, seed, workers, progress, executo
         for row in result.get("rows", []):
             print(f"   {row['quantity']}: paper {row['paper']} | ours {row['ours']}")
         print(f"   {outcome[name]:.1f} s", flush=True)
-    report = importlib.import_module(REPORT_MODULE).main(out)
-    return outcome, report
+    return outcome, _report(figures_dir, out)
+
+
+def _report(figures_dir: Path, out: Path) -> Path:
+    if str(figures_dir) not in sys.path:
+        sys.path.insert(0, str(figures_dir))
+    return importlib.import_module(REPORT_MODULE).main(out)
 
 
 def _upload_scripts(client, figures_dir: Path) -> None:

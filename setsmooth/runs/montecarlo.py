@@ -18,6 +18,8 @@ from typing import Any, TypeVar
 import numpy as np
 from tqdm import tqdm
 
+from . import slots
+
 R = TypeVar("R")
 
 #: Runs sent to a worker per task: large enough to amortize pickling, small enough for the progress
@@ -26,7 +28,7 @@ _MAX_CHUNK = 64
 
 
 def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int | np.random.Generator,
-        executor: Executor | str | None = None, progress: bool = True,
+        executor: Executor | str | None = None, progress: bool | Callable = True,
         workers: int | None = None) -> list[R]:
     """Call ``trial(rng)`` for ``n_runs`` independent generators and return the results in run order.
 
@@ -48,8 +50,11 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int | np.r
         instance is used as is and left running. A ``dask.distributed.Client`` (the ``setsmooth[dask]``
         extra) sends chunks of runs to its cluster as tasks (`setsmooth.runs.dask_cluster`); a worker lost
         mid-run has its tasks recomputed, with the same results, and the client is left open.
-    progress : bool
-        Show a tqdm progress bar.
+    progress : bool or callable
+        Show a tqdm progress bar. Or a tqdm-like class to report the runs to instead, called as tqdm
+        is (an optional iterable, keywords ``total``, ``desc``, ``unit``; ``update(n)``, ``close()``):
+        ``setsmooth figures`` passes one that forwards them to its own bar
+        (`setsmooth.runs.figure_processes`).
     workers : int, optional
         Number of processes of the default pool; ``min(2, os.cpu_count())`` by default. Ignored
         otherwise.
@@ -88,7 +93,10 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int | np.r
     seeds = root.spawn(n_runs)  # last, so that a refused call leaves a Generator's spawn count as it was
     # Children are numbered on from the parent's earlier spawns: run i has the key first + i.
     call = functools.partial(_call_trial, trial, seeds[0].spawn_key[-1])
-    bar = functools.partial(tqdm, total=n_runs, disable=not progress, desc="Monte Carlo", unit="run")
+    if callable(progress):
+        bar = functools.partial(progress, total=n_runs, desc="Monte Carlo", unit="run")
+    else:
+        bar = functools.partial(tqdm, total=n_runs, disable=not progress, desc="Monte Carlo", unit="run")
 
     if serial or (executor is None and n_runs == 1):
         return [result for result in bar(map(call, seeds))]
@@ -96,17 +104,20 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int | np.r
         from .dask_cluster import run_chunks
 
         n_workers = max(1, len(executor.scheduler_info().get("workers", {})))
-        return run_chunks(executor, call, seeds, bar, _chunksize(n_runs, n_workers))
+        with slots.lent():
+            return run_chunks(executor, call, seeds, bar, _chunksize(n_runs, n_workers))
     if executor is None or isinstance(executor, ProcessPoolExecutor):
         # A pool that fails to pickle a task can hang in shutdown (2 runs in 10 with a lambda), so an
         # unpicklable trial is refused here, before any process starts.
         _check_picklable(trial)
     if isinstance(executor, Executor):
-        return _mapped(executor, call, seeds, bar, _chunksize(n_runs, workers or os.cpu_count() or 1))
+        with slots.lent():   # under `setsmooth figures`, this process computes nothing while it waits
+            return _mapped(executor, call, seeds, bar, _chunksize(n_runs, workers or os.cpu_count() or 1))
     n_workers = workers or min(2, os.cpu_count() or 1)
     pool = ProcessPoolExecutor(max_workers=n_workers)
     try:
-        return _mapped(pool, call, seeds, bar, _chunksize(n_runs, n_workers))
+        with slots.lent():
+            return _mapped(pool, call, seeds, bar, _chunksize(n_runs, n_workers))
     finally:
         # On an error (or Ctrl-C) do not wait for thousands of queued runs.
         pool.shutdown(wait=True, cancel_futures=True)
@@ -163,7 +174,8 @@ def _picklable(obj: Any) -> bool:
 def _call_trial(trial: Callable[[np.random.Generator], Any], first_key: int,
                 seed_seq: np.random.SeedSequence) -> Any:
     try:
-        return trial(np.random.default_rng(seed_seq))
+        with slots.held():   # a worker of a `setsmooth figures` script computes in one of its slots
+            return trial(np.random.default_rng(seed_seq))
     except Exception as exc:
         _add_note(exc, f"in Monte Carlo run {seed_seq.spawn_key[-1] - first_key}; replay it with "
                        f"trial(numpy.random.default_rng(numpy.random.SeedSequence({seed_seq.entropy}, "
