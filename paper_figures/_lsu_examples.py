@@ -164,10 +164,16 @@ def experiment(runs: int, seed: int, out: Path | None = None, workers: int | Non
     from functools import partial
 
     clock = time.perf_counter()
-    results = montecarlo.run(partial(trial, K_values=tuple(K_values), horizon=horizon,
-                                     max_generators=max_generators, max_constraints=max_constraints),
-                             runs, seed, executor=executor, progress=progress, workers=workers)
-    data = {k: np.array([r[k] for r in results]) for k in ("metrics", "seconds", "outside", "blas_threads")}
+    # One Monte Carlo per noise level, all with the same seed: run r draws its inputs and noises first,
+    # so at every K it sees the same ones, and these are the runs of `trial` over all K cut into tasks
+    # of one K each (same numbers; the tasks spread over the workers and the progress moves per K).
+    per_K = [montecarlo.run(partial(trial, K_values=(K,), horizon=horizon, max_generators=max_generators,
+                                    max_constraints=max_constraints),
+                            runs, seed, executor=executor, progress=progress, workers=workers)
+             for K in K_values]
+    data = {k: np.concatenate([np.array([r[k] for r in results]) for results in per_K], axis=1)
+            for k in ("metrics", "seconds", "outside")}
+    data["blas_threads"] = np.array([[r["blas_threads"] for r in results] for results in per_K]).max(axis=0)
     path.parent.mkdir(parents=True, exist_ok=True)
     np.savez(path, **data)
     return {**data, "settings": settings, "cached": False, "wall_time_s": time.perf_counter() - clock}

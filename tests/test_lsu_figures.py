@@ -41,3 +41,14 @@ def test_complexity_sweep_reports_errors_for_each_budget(figures, tmp_path):
     saved = written(tmp_path, "lsu_complexity")
     assert np.array(saved["rmse_steady"]).shape == (1, 2)
     assert all(r["ours"] for r in data["rows"])
+
+
+def test_the_experiment_cut_into_one_task_per_noise_level_gives_the_runs_over_all_levels(figures, tmp_path):
+    ex = figures("_lsu_examples")
+    exp = ex.experiment(2, 1, tmp_path, progress=False, executor="serial", K_values=(3.0, 0.0), horizon=15)
+    from setsmooth import montecarlo
+
+    whole = montecarlo.run(lambda rng: ex.trial(rng, K_values=(3.0, 0.0), horizon=15), 2, 1,
+                           executor="serial", progress=False)
+    for key in ("metrics", "outside"):
+        assert np.array_equal(exp[key], np.array([r[key] for r in whole]))
