@@ -32,7 +32,7 @@ def measure(horizon: int, repeats: int) -> dict[str, list[float]]:
     import setsmooth as ss
 
     s1, c1 = np.sin(1.0), np.cos(1.0)
-    system = ss.LinearSystem([[s1, c1], [-c1, s1]], [[0.5], [1.0]], [[0.5, 0.5], [1.0, 0.3]], np.eye(2),
+    system = ss.LinearSystem([[s1, c1], [-c1, s1]], None, [[0.5, 0.5], [1.0, 0.3]], E=[[0.5], [1.0]],
                              W=ss.Box([-1.0], [1.0]), V=ss.Box([-1.0, -1.0], [1.0, 1.0]))
     X0 = ss.Box([-5.0, -5.0], [5.0, 5.0])
     _, ys = ss.simulate(system, X0, horizon, np.random.default_rng(0))

@@ -63,7 +63,7 @@ def _example_31(B_identity_triangle: bool = False):
         return base
     W = ss.ConstrainedZonotope(G=[[0.4, -0.3, 0.1], [0.1, 0.2, -0.35]], c=[0.0, 0.0],
                                A=[[1.0, 1.0, 1.0]], b=[1.0])
-    return ss.LinearSystem(base.A(0), np.eye(2), base.C(0), base.D(0), W=W, V=base.V)
+    return ss.LinearSystem(base.A_at(0), None, base.C_at(0), F=base.F_at(0), W=W, V=base.V)
 
 
 def _custom_system():
@@ -73,7 +73,8 @@ def _custom_system():
 
     base = smoothing_example_31()
     V = VPolytope([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0], [0.0, 1.2]])
-    return ss.LinearSystem(base.A(0), base.B(0), base.C(0), base.D(0), W=L1Ball([0.0], 1.0), V=V)
+    return ss.LinearSystem(base.A_at(0), None, base.C_at(0), E=base.E_at(0), F=base.F_at(0),
+                           W=L1Ball([0.0], 1.0), V=V)
 
 
 def _filter_with_hulls(system, T: int, seed: int, certified: bool = True) -> dict:
@@ -110,8 +111,8 @@ def run_case(case: str, size: int, seed: int) -> dict:
         A = np.array([[0.9, 0.2, 0.0], [-0.2, 0.9, 0.1], [0.0, 0.0, 0.95]])
         B = np.array([[0.1, 0.0], [0.0, 0.1], [0.05, 0.05]])
         C = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
-        system = ss.LinearSystem(A, B, C, np.eye(2), ss.Box([-1, -1], [1, 1]),
-                                 ss.Box([-0.5, -0.5], [0.5, 0.5]))
+        system = ss.LinearSystem(A, None, C, E=B, W=ss.Box([-1, -1], [1, 1]),
+                                 V=ss.Box([-0.5, -0.5], [0.5, 0.5]))
         X0 = ss.Box(-np.ones(3), np.ones(3))
         _, ys = ss.simulate(system, X0, size, np.random.default_rng(seed))
         wall, cpu = time.perf_counter(), time.process_time()  # build + hulls only

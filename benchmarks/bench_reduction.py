@@ -64,7 +64,7 @@ def observable_system(n: int, seed: int) -> ss.LinearSystem:
     finally:
         np.random.set_state(state)
     box = ss.Box(-np.ones(n), np.ones(n))
-    return ss.LinearSystem(s.A, s.B, s.C, np.eye(n), W=box, V=box)
+    return ss.LinearSystem(s.A, None, s.C, E=s.B, W=box, V=box)
 
 
 def run_filter(system, X0, ys, methods):

@@ -31,7 +31,7 @@ def three_state_system() -> ss.LinearSystem:
     A = np.array([[0.9, 0.2, 0.0], [-0.2, 0.9, 0.1], [0.0, 0.0, 0.95]])
     B = np.array([[0.1, 0.0], [0.0, 0.1], [0.05, 0.05]])
     C = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
-    return ss.LinearSystem(A, B, C, np.eye(2), ss.Box([-1, -1], [1, 1]), ss.Box([-0.5, -0.5], [0.5, 0.5]))
+    return ss.LinearSystem(A, None, C, E=B, W=ss.Box([-1, -1], [1, 1]), V=ss.Box([-0.5, -0.5], [0.5, 0.5]))
 
 
 def trial(system, X0, T, rng, method):

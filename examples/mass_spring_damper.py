@@ -47,8 +47,8 @@ for k in range(T):
 xs = np.array(xs)
 ys = xs[:, :1] + rng.uniform(-0.02, 0.02, (T + 1, 1))
 
-bounded = ss.LinearSystem.from_statespace(plant, W, V, noise_inputs=[1], inputs=u, dt=dt, partition=16)
-held = ss.LinearSystem.from_statespace(plant, W, V, noise_inputs=[1], inputs=u, dt=dt, method="zoh")
+bounded = ss.LinearSystem.from_statespace(plant, W=W, V=V, noise_inputs=[1], u=u, dt=dt, partition=16)
+held = ss.LinearSystem.from_statespace(plant, W=W, V=V, noise_inputs=[1], u=u, dt=dt, method="zoh")
 
 filtered = ss.classical_filter(bounded, X0, ys)
 smoothed = ss.optimal_smoother(bounded, X0, ys)   # the trajectory form: one sparse program

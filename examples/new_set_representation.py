@@ -119,8 +119,7 @@ class PlainDiamond(Diamond):
 
 
 def run_filter(W):
-    system = ss.LinearSystem([[0.9, 0.3], [-0.2, 0.8]], np.eye(2), [[1.0, 0.0]], [[1.0]], W=W,
-                             V=ss.Box([-0.2], [0.2]))
+    system = ss.LinearSystem([[0.9, 0.3], [-0.2, 0.8]], None, [[1.0, 0.0]], W=W, V=ss.Box([-0.2], [0.2]))
     X0 = ss.Box([-1.0, -1.0], [1.0, 1.0])
     _, ys = ss.simulate(system, X0, 12, np.random.default_rng(1))
     start = time.perf_counter()

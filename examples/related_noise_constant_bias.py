@@ -20,7 +20,7 @@ import setsmooth as ss  # noqa: E402
 from setsmooth.papers.smoothing_examples import smoothing_example_31  # noqa: E402
 
 system = smoothing_example_31()                  # Φ, Γ, Ξ, Ψ = I; W = [−1, 1], V = [−1, 1]²
-Phi, Gamma, C = system.A(0), system.B(0), system.C(0)
+Phi, Gamma, C = system.A_at(0), system.E_at(0), system.C_at(0)
 X0, T = ss.Box([-5, -5], [5, 5]), 20
 rng = np.random.default_rng(5)
 w = system.W.sample(rng, 1)                      # one constant disturbance for the whole run
@@ -30,7 +30,7 @@ classical = ss.classical_filter(system, X0, ys)  # w_k unrelated: an outer bound
 
 # (x, w) with w_{k+1} = w_k: process noise of dimension 0 is written as a zero map of a point.
 A_aug = np.block([[Phi, Gamma], [np.zeros((1, 2)), np.eye(1)]])
-augmented = ss.LinearSystem(A_aug, np.zeros((3, 1)), np.hstack([C, np.zeros((2, 1))]), np.eye(2),
+augmented = ss.LinearSystem(A_aug, None, np.hstack([C, np.zeros((2, 1))]), E=np.zeros((3, 1)),
                             W=ss.Box([0.0], [0.0]), V=system.V)
 joint = ss.classical_filter(augmented, X0 * system.W, ys)
 optimal = ss.SetEstimates([P.project([0, 1]) for P in joint], system=system, kind="optimal")

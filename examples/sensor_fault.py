@@ -22,7 +22,7 @@ import setsmooth as ss  # noqa: E402
 
 plant = control.ss([[0.0, 1.0], [-4.0, -0.4]], [[0.0], [1.0]], [[1.0, 0.0]], 0)
 system = ss.LinearSystem.from_statespace(plant, W=ss.Box([-1.0], [1.0]), dt=0.1,
-                                         V=ss.Box([-0.05], [0.05]))
+                                         V=ss.Box([-0.05], [0.05]), noise_inputs=[0])
 X0 = ss.Box([-0.5, -0.5], [0.5, 0.5])
 xs, ys = ss.simulate(system, X0, 50, seed := 3)
 faulty = ys.copy()

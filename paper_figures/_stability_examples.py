@@ -43,7 +43,7 @@ class Example:
 
     def system(self) -> ss.LinearSystem:
         unit = ss.Box([-1.0], [1.0])
-        return ss.LinearSystem(np.array(self.A), np.array(self.B), np.array(self.C), [[1.0]], W=unit, V=unit)
+        return ss.LinearSystem(np.array(self.A), None, np.array(self.C), E=np.array(self.B), W=unit, V=unit)
 
     def decomposition(self) -> analysis.ObservabilityDecomposition:
         if self.P is None:

@@ -49,8 +49,8 @@ def main(runs: int = DEFAULT_RUNS, seed: int = 0, out: Path | None = None, worke
     true_polys = polys["true"]
     curves = {name: ex.curves(true_polys, polys[name]) for name in list(ex.DESIGNERS) + ["OIT"]}
     true_diam = np.array([analysis.diameter(P, 2) for P in true_polys])
-    bound = analysis.minimize_oit_diameter_bound(system.A(0), system.B(0), system.C(0), system.W, system.V)
-    oit_bound = analysis.oit_diameter_bound(system.A(0), system.B(0), system.C(0), system.W, system.V, OIT_DELTA)
+    bound = analysis.minimize_oit_diameter_bound(system.A_at(0), system.E_at(0), system.C_at(0), system.W, system.V)
+    oit_bound = analysis.oit_diameter_bound(system.A_at(0), system.E_at(0), system.C_at(0), system.W, system.V, OIT_DELTA)
 
     extra = montecarlo.run(partial(ex.fresh_run, "25", horizon), runs - 1, seed, executor=executor, progress=progress,
                            workers=workers) if runs > 1 else []

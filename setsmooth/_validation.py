@@ -178,8 +178,9 @@ def check_system(system: Any, name: str = "system") -> Any:
     if cls.__module__.split(".")[0] == "control":
         convert = "" if cls.__name__ == "StateSpace" else "control.ss(...) of it, then "
         raise TypeError(f"{name} is a control.{cls.__name__}, which has no noise ranges: use "
-                        f"{convert}setsmooth.LinearSystem.from_statespace(plant, W, V, ...) to build a "
-                        "LinearSystem (W, V the ranges of the noises; dt= samples a continuous plant)")
+                        f"{convert}setsmooth.LinearSystem.from_statespace(plant, W=..., V=..., u=...) to "
+                        "build a LinearSystem (W, V the ranges of the noises, u the known inputs that "
+                        "the plant's B and D act on; dt= samples a continuous plant)")
     if not hasattr(system, "n") or not hasattr(system, "W"):
         raise TypeError(f"{name} must be a setsmooth system (LinearSystem, NonlinearSystem), got "
                         f"{cls.__name__}")
@@ -196,12 +197,33 @@ def check_dim(value: Any, name: str) -> int:
 
 
 def as_measurements(ys: Any, m: int) -> np.ndarray:
-    """Measurements y_0..y_T as a finite (T+1, m) array (time first); a 1-D array is accepted when m = 1."""
+    """Measurements y_0..y_T as a finite (T+1, m) array (time first); a 1-D array is accepted when m = 1.
+
+    python-control's (m, T+1) orientation is refused with a message saying so (never transposed by
+    guessing; when m = T+1 the rows are read as steps).
+    """
     arr = real_array(ys, "ys", "an array of measurements")
     if arr.ndim == 1 and m == 1:
         arr = arr.reshape(-1, 1)
+    if arr.ndim == 2 and arr.shape[1] != m and arr.shape[0] == m:
+        raise ValueError(f"ys has shape {arr.shape}, python-control's orientation (outputs × time); "
+                         f"setsmooth's arrays are time-first, shape (T+1, m={m}), one row y_k per "
+                         "step: pass ys.T")
     if arr.ndim != 2 or arr.shape[1] != m or arr.shape[0] < 1:
         raise ValueError(f"ys must have shape (T+1, m={m}), got {np.shape(ys)}")
     if not np.isfinite(arr).all():
         raise ValueError("ys contains NaN or inf")
     return arr
+
+
+def measured(system: Any, ys: Any) -> tuple[Any, np.ndarray]:
+    """The estimators' door: the checked system and measurements, without the known feedthrough.
+
+    ``check_system``, then ``as_measurements``, then y_k − D_k u_k for a `LinearSystem` with a
+    feedthrough (`LinearSystem.without_feedthrough`: the system returned has none, so an estimator
+    calling another through its door subtracts nothing twice). Inside, y_k = C_k x_k + F_k v_k.
+    """
+    ys = as_measurements(ys, check_system(system).m)
+    if getattr(system, "has_feedthrough", False):
+        system, ys = system.without_feedthrough(ys)
+    return system, ys

@@ -249,7 +249,7 @@ class SetEstimates(Tubes, list):
     --------
     >>> import numpy as np, setsmooth as ss
     >>> box = ss.Box([-1.0], [1.0])
-    >>> system = ss.LinearSystem([[1.0]], [[1.0]], [[1.0]], [[1.0]], W=box, V=box)
+    >>> system = ss.LinearSystem([[1.0]], None, [[1.0]], W=box, V=box)
     >>> smoothed = ss.optimal_smoother(system, ss.Box([-5.0], [5.0]), [[0.0], [3.0]])
     >>> smoothed.hi.round(6).tolist(), smoothed.diameters().round(6).tolist()
     ([[1.0], [2.0]], [0.0, 0.0])
@@ -317,7 +317,7 @@ class SetEstimates(Tubes, list):
         --------
         >>> import setsmooth as ss
         >>> box = ss.Box([-1.0], [1.0])
-        >>> system = ss.LinearSystem([[1.0]], [[1.0]], [[1.0]], [[1.0]], W=box, V=box)
+        >>> system = ss.LinearSystem([[1.0]], None, [[1.0]], W=box, V=box)
         >>> smoothed = ss.optimal_smoother(system, ss.Box([-5.0], [5.0]), [[0.0], [3.0]])
         >>> [h.hi.round(6).tolist() for h in smoothed.interval_hulls(workers=2)]
         [[1.0], [2.0]]

@@ -12,12 +12,12 @@ example_31 = smoothing_example_31  # the one definition of (31), under the name 
 
 def singular_system() -> ss.LinearSystem:
     """Φ of rank 1: x2 is forgotten at every step, so ker(Φ) matters in the smoother (16)."""
-    return ss.LinearSystem([[0.9, 0.5], [0.0, 0.0]], [[1.0], [0.5]], [[1.0, 1.0]], [[1.0]],
+    return ss.LinearSystem([[0.9, 0.5], [0.0, 0.0]], None, [[1.0, 1.0]], E=[[1.0], [0.5]],
                            W=ss.Box([-0.5], [0.5]), V=ss.Box([-1.0], [1.0]))
 
 
 def time_varying_system() -> ss.LinearSystem:
-    """Time-varying Φ_k, Γ_k, Ξ_k given as callables, with a known input and a zonotopic W."""
+    """Time-varying A_k, E_k, C_k (Φ_k, Γ_k, Ξ_k) given as callables, with a known input and a zonotopic W."""
     def A(k):
         a = 0.3 * np.sin(0.7 * k)
         return np.array([[np.cos(a), np.sin(a)], [-np.sin(a), np.cos(a)]]) * 0.95
@@ -25,7 +25,7 @@ def time_varying_system() -> ss.LinearSystem:
     def C(k):
         return np.array([[1.0, 0.2 * np.cos(k)]])
 
-    return ss.LinearSystem(A, lambda k: np.eye(2) * (1.0 + 0.1 * (k % 2)), C, [[0.5]],
+    return ss.LinearSystem(A, np.eye(2), C, E=lambda k: np.eye(2) * (1.0 + 0.1 * (k % 2)), F=[[0.5]],
                            W=ss.Zonotope([[0.3, 0.1], [0.0, 0.2]], [0.05, 0.0]),
                            V=ss.Box([-1.0], [1.0]),
                            u=lambda k: np.array([0.1 * k, -0.05]))

@@ -97,7 +97,7 @@ def test_unknown_problem_or_estimator_names_the_argument_and_the_choices():
 def test_a_problem_is_fixed_by_its_seed():
     a, b = arena.make_problem("cz_noise", 5, horizon=3), arena.make_problem("cz_noise", 5, horizon=3)
     assert np.array_equal(a.xs, b.xs) and np.array_equal(a.ys, b.ys)
-    assert np.array_equal(a.system.A(0), b.system.A(0))
+    assert np.array_equal(a.system.A_at(0), b.system.A_at(0))
     assert not np.array_equal(a.ys, arena.make_problem("cz_noise", 6, horizon=3).ys)
 
 

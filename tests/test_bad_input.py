@@ -41,14 +41,16 @@ def add(id: str, call, exc, names: str) -> None:
 # -- fixtures of the probes (built lazily: a probe must fail in its own call, not at import) --------
 S1, C1 = np.sin(1.0), np.cos(1.0)
 A31 = np.array([[S1, C1], [-C1, S1]])
-B31, C31, D31 = np.array([[0.5], [1.0]]), np.array([[0.5, 0.5], [1.0, 0.3]]), np.eye(2)
+E31, C31, F31 = np.array([[0.5], [1.0]]), np.array([[0.5, 0.5], [1.0, 0.3]]), np.eye(2)
+B2, D2 = np.eye(2), 0.1 * np.eye(2)  # a known input u (zero) entering the state and the measurements
 HERMITIAN = np.array([[2.0, 1j], [-1j, 2.0]])
 CPLX2 = np.array([1.0 + 1e-3j, 0.0])
 T_PROBE = 5
 
 
 def system(**over) -> ss.LinearSystem:
-    args = dict(A=A31, B=B31, C=C31, D=D31, W=ss.Box([-1.0], [1.0]), V=ss.Box([-1.0, -1.0], [1.0, 1.0]))
+    args = dict(A=A31, B=B2, C=C31, D=D2, E=E31, F=F31, W=ss.Box([-1.0], [1.0]),
+                V=ss.Box([-1.0, -1.0], [1.0, 1.0]), u=np.zeros((T_PROBE + 1, 2)))
     args.update(over)
     return ss.LinearSystem(**args)
 
@@ -170,25 +172,31 @@ for _set_name in ("Box", "Zonotope", "CZ", "Ellipsoid", "HPolytope"):
 # -- LinearSystem construction ---------------------------------------------------------------------
 for _id, _call, _exc, _names in [
     ("LinearSystem-A-complex", lambda: system(A=A31 * (1 + 1j)), TypeError, r"\bA\b"),
-    ("LinearSystem-B-complex", lambda: system(B=B31 * 1j), TypeError, r"\bB\b"),
+    ("LinearSystem-B-complex", lambda: system(B=B2 * 1j), TypeError, r"\bB\b"),
+    ("LinearSystem-E-complex", lambda: system(E=E31 * 1j), TypeError, r"\bE\b"),
+    ("LinearSystem-F-complex", lambda: system(F=F31 * 1j), TypeError, r"\bF\b"),
     ("LinearSystem-C-complex", lambda: system(C=C31 + 1e-9j), TypeError, r"\bC\b"),
-    ("LinearSystem-D-complex", lambda: system(D=D31 * 1j), TypeError, r"\bD\b"),
+    ("LinearSystem-D-complex", lambda: system(D=D2 * 1j), TypeError, r"\bD\b"),
     ("LinearSystem-A-nan", lambda: system(A=[[np.nan, 0], [0, 1]]), ValueError, r"\bA\b"),
-    ("LinearSystem-B-inf", lambda: system(B=[[np.inf], [1]]), ValueError, r"\bB\b"),
+    ("LinearSystem-B-inf", lambda: system(B=[[np.inf, 0], [0, 1]]), ValueError, r"\bB\b"),
+    ("LinearSystem-E-inf", lambda: system(E=[[np.inf], [1]]), ValueError, r"\bE\b"),
+    ("LinearSystem-F-nan", lambda: system(F=[[np.nan, 0], [0, 1]]), ValueError, r"\bF\b"),
     ("LinearSystem-C-nan", lambda: system(C=[[np.nan, 0], [0, 1]]), ValueError, r"\bC\b"),
     ("LinearSystem-D-nan", lambda: system(D=[[np.nan, 0], [0, 1]]), ValueError, r"\bD\b"),
     ("LinearSystem-A-strings", lambda: system(A=[["1", "0"], ["0", "1"]]), TypeError, r"\bA\b"),
     ("LinearSystem-A-sequence-complex", lambda: system(A=[A31, A31 * 1j, A31]), TypeError, r"A\[1\]"),
     ("LinearSystem-A-sequence-nan", lambda: system(A=[A31, A31, A31 * np.nan]), ValueError, r"A\[2\]"),
     ("LinearSystem-A-sequence-shapes", lambda: system(A=[A31, np.eye(3)]), ValueError, r"A\[1\]|\bA\b"),
-    ("LinearSystem-B-sequence-nan", lambda: system(B=[B31, B31 * np.nan]), ValueError, r"B\[1\]"),
+    ("LinearSystem-B-sequence-nan", lambda: system(B=[B2, B2 * np.nan]), ValueError, r"B\[1\]"),
+    ("LinearSystem-E-sequence-nan", lambda: system(E=[E31, E31 * np.nan]), ValueError, r"E\[1\]"),
     ("LinearSystem-A-callable-complex", lambda: system(A=lambda k: A31 * 1j), TypeError, r"A\(0\)"),
     ("LinearSystem-A-callable-nan", lambda: system(A=lambda k: A31 * np.nan), ValueError, r"A\(0\)"),
     ("LinearSystem-A-callable-shape", lambda: system(A=lambda k: np.ones((2, 3))), ValueError, r"A\(0\)|\bA\b"),
     ("LinearSystem-C-callable-complex", lambda: system(C=lambda k: C31 * 1j), TypeError, r"C\(0\)"),
-    ("LinearSystem-D-callable-nan", lambda: system(D=lambda k: D31 * np.nan), ValueError, r"D\(0\)"),
-    ("LinearSystem-B-vs-W", lambda: system(W=ss.Box([-1, -1], [1, 1])), ValueError, r"\bB\b"),
-    ("LinearSystem-D-vs-V", lambda: system(V=ss.Box([-1], [1])), ValueError, r"\bD\b"),
+    ("LinearSystem-D-callable-nan", lambda: system(D=lambda k: D2 * np.nan), ValueError, r"D\(0\)"),
+    ("LinearSystem-F-callable-nan", lambda: system(F=lambda k: F31 * np.nan), ValueError, r"F\(0\)"),
+    ("LinearSystem-E-vs-W", lambda: system(W=ss.Box([-1, -1], [1, 1])), ValueError, r"\bE\b"),
+    ("LinearSystem-F-vs-V", lambda: system(V=ss.Box([-1], [1])), ValueError, r"\bF\b"),
     ("LinearSystem-W-type", lambda: system(W=[-1, 1]), TypeError, r"\bW\b"),
     ("LinearSystem-u-complex", lambda: system(u=np.ones((5, 2)) * 1j), TypeError, r"\bu\b"),
     ("LinearSystem-u-row-nan", lambda: system(u=np.vstack([np.zeros((3, 2)), [[np.nan, 0]], np.zeros((1, 2))])),
@@ -196,12 +204,14 @@ for _id, _call, _exc, _names in [
     ("LinearSystem-u-row-inf", lambda: system(u=[[0, 0], [np.inf, 0]]), ValueError, r"u\[1\]"),
     ("LinearSystem-u-shape", lambda: system(u=np.ones((5, 3))), ValueError, r"\bu\b"),
     ("LinearSystem-u-strings", lambda: system(u=[["0", "0"]]), TypeError, r"\bu\b"),
-    ("from_statespace-Psi-complex", lambda: ss.LinearSystem.from_statespace(
-        _statespace(), ss.Box([-1], [1]), ss.Box([-1], [1]), Psi=[[1j]]), TypeError, r"\bPsi\b"),
+    ("from_statespace-F-complex", lambda: ss.LinearSystem.from_statespace(
+        _statespace(), W=ss.Box([-1], [1]), V=ss.Box([-1], [1]), noise_inputs=[0], F=[[1j]]), TypeError, r"\bF\b"),
     ("from_statespace-dt-complex", lambda: ss.LinearSystem.from_statespace(
-        _statespace(dt=0), ss.Box([-1], [1]), ss.Box([-1], [1]), dt=0.1j), TypeError, r"\bdt\b"),
+        _statespace(dt=0), W=ss.Box([-1], [1]), V=ss.Box([-1], [1]), noise_inputs=[0], dt=0.1j), TypeError,
+     r"\bdt\b"),
     ("from_statespace-dt-nan", lambda: ss.LinearSystem.from_statespace(
-        _statespace(dt=0), ss.Box([-1], [1]), ss.Box([-1], [1]), dt=np.nan), ValueError, r"\bdt\b"),
+        _statespace(dt=0), W=ss.Box([-1], [1]), V=ss.Box([-1], [1]), noise_inputs=[0], dt=np.nan), ValueError,
+     r"\bdt\b"),
 ]:
     add(_id, _call, _exc, _names)
 
@@ -217,9 +227,11 @@ _AT_STEP = {
     "A(2)-nan": (dict(A=bad_at(2, A31, A31 * np.nan)), ValueError, r"A\(2\)"),
     "A(2)-complex": (dict(A=bad_at(2, A31, A31 + 1e-3j)), TypeError, r"A\(2\)"),
     "A(2)-shape": (dict(A=bad_at(2, A31, A31.reshape(-1))), ValueError, r"A\(2\)"),
-    "B(2)-inf": (dict(B=bad_at(2, B31, B31 * np.inf)), ValueError, r"B\(2\)"),
+    "B(2)-inf": (dict(B=bad_at(2, B2, np.full((2, 2), np.inf))), ValueError, r"B\(2\)"),
+    "E(2)-inf": (dict(E=bad_at(2, E31, E31 * np.inf)), ValueError, r"E\(2\)"),
     "C(2)-nan": (dict(C=bad_at(2, C31, C31 * np.nan)), ValueError, r"C\(2\)"),
-    "D(2)-shape": (dict(D=bad_at(2, D31, np.eye(3))), ValueError, r"D\(2\)"),
+    "D(2)-shape": (dict(D=bad_at(2, D2, np.eye(3))), ValueError, r"D\(2\)"),
+    "F(2)-shape": (dict(F=bad_at(2, F31, np.eye(3))), ValueError, r"F\(2\)"),
     "u(3)-nan": (dict(u=bad_at(3, np.zeros(2), np.array([np.nan, 0.0]))), ValueError, r"u\(3\)"),
     "u(3)-complex": (dict(u=bad_at(3, np.zeros(2), CPLX2)), TypeError, r"u\(3\)"),
     "u(3)-length": (dict(u=bad_at(3, np.zeros(2), np.zeros(3))), ValueError, r"u\(3\)"),

@@ -39,8 +39,8 @@ def _system(T: int):
     A = np.array([[0.9, 0.2], [-0.1, 0.8]])
     W = ss.ConstrainedZonotope(0.2 * np.array([[1.0, -0.5, 0.3], [0.2, 0.4, -0.6]]), np.zeros(2),
                                np.array([[1.0, 1.0, 1.0]]), np.array([0.5]))
-    u = np.tile([[0.1, 0.0]], (T, 1))          # a known input term added to x_(k+1)
-    system = ss.LinearSystem(A, B=np.eye(2), C=np.array([[1.0, 0.0]]), D=np.eye(1), W=W,
+    u = np.tile([[0.1, 0.0]], (T, 1))          # a known input, B = I: added to x_(k+1) as it is
+    system = ss.LinearSystem(A, B=np.eye(2), C=np.array([[1.0, 0.0]]), W=W,
                              V=ss.Box([-0.1], [0.1]), u=u)
     return system, ss.Box([-1, -1], [1, 1])
 

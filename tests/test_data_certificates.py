@@ -17,7 +17,7 @@ def _system(offset: float = 0.0):
     box = ss.Box([-0.1, -0.1], [0.1, 0.1])
     o = np.array([offset, -offset])
     u = np.tile((np.eye(2) - A) @ o, (12, 1))
-    system = ss.LinearSystem(A, np.eye(2), [[1.0, 0.0]], [[1.0]], W=box, V=ss.Box([-0.2], [0.2]), u=u)
+    system = ss.LinearSystem(A, np.eye(2), [[1.0, 0.0]], W=box, V=ss.Box([-0.2], [0.2]), u=u)
     xs = [o + rng.uniform(-0.5, 0.5, 2)]
     for k in range(12):
         xs.append(A @ xs[-1] + rng.uniform(-0.1, 0.1, 2) + u[k])

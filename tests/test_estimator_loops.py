@@ -21,9 +21,9 @@ def _operator_filter(system, X0, ys):
     minus_V = -system.V
     posts = []
     for k, y in enumerate(ys):
-        prior = X0 if k == 0 else (system.A(k - 1) @ posts[-1] + system.B(k - 1) @ system.W
+        prior = X0 if k == 0 else (system.A_at(k - 1) @ posts[-1] + system.E_at(k - 1) @ system.W
                                    + system.input_term(k - 1))
-        posts.append(prior.intersect_preimage(system.C(k), system.D(k) @ minus_V + y))
+        posts.append(prior.intersect_preimage(system.C_at(k), system.F_at(k) @ minus_V + y))
     return posts
 
 
@@ -31,8 +31,8 @@ def _operator_smoother(system, posteriors):
     minus_W = -system.W
     smoothed = [posteriors[-1]]
     for k in range(len(posteriors) - 2, -1, -1):
-        reach = smoothed[-1] + system.B(k) @ minus_W - system.input_term(k)
-        smoothed.append(posteriors[k].intersect_preimage(system.A(k), reach))
+        reach = smoothed[-1] + system.E_at(k) @ minus_W - system.input_term(k)
+        smoothed.append(posteriors[k].intersect_preimage(system.A_at(k), reach))
     return smoothed[::-1]
 
 
@@ -92,31 +92,31 @@ def test_constant_noise_images_are_computed_once_per_system():
     assert system.measurement_noise_image(0) is system.measurement_noise_image(9)
     # ... and they are the sets B W, B(−W) and D(−V) of the operators.
     d = np.array([[0.3, -1.0], [1.0, 0.2]])
-    for image, reference in [(system.process_noise_image(0), system.B(0) @ system.W),
-                             (system.process_noise_image(0, negated=True), system.B(0) @ -system.W),
-                             (system.measurement_noise_image(0), system.D(0) @ -system.V)]:
+    for image, reference in [(system.process_noise_image(0), system.E_at(0) @ system.W),
+                             (system.process_noise_image(0, negated=True), system.E_at(0) @ -system.W),
+                             (system.measurement_noise_image(0), system.F_at(0) @ -system.V)]:
         assert np.array_equal(image.support_many(d), reference.support_many(d))
 
 
 def test_noise_images_follow_time_varying_matrices():
-    system = time_varying_system()  # B(k) alternates between I and 1.1 I
+    system = time_varying_system()  # E(k) alternates between I and 1.1 I
     d = np.eye(2)
     for k in range(4):
-        expected = (system.B(k) @ system.W).support_many(d)
+        expected = (system.E_at(k) @ system.W).support_many(d)
         assert np.array_equal(system.process_noise_image(k).support_many(d), expected)
     assert not np.array_equal(system.process_noise_image(0).support_many(d),
                               system.process_noise_image(1).support_many(d))
 
 
 def test_a_zero_input_adds_no_translation():
-    """A lazy prior stays a Minkowski sum: u_k = 0 is not wrapped in a translation layer."""
+    """A lazy prior stays a Minkowski sum: B u_k = 0 is not wrapped in a translation layer."""
     A, B, C, D = np.eye(2), np.eye(2), [[1.0, 0.0]], [[1.0]]
     W, V = ss.Box([-1, -1], [1, 1]), ss.Box([-1], [1])
     P = ss.HPolytope([[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]], [1.0, 1.0, 1.0, 1.0])
-    with_zero_input = ss.LinearSystem(A, B, C, D, W, V, u=np.zeros((3, 2)))
-    without_input = ss.LinearSystem(A, B, C, D, W, V)
+    with_zero_input = ss.LinearSystem(A, np.eye(2), C, E=B, F=D, W=W, V=V, u=np.zeros((3, 2)))
+    without_input = ss.LinearSystem(A, None, C, E=B, F=D, W=W, V=V)
     assert with_zero_input.nonzero_input(1) is None and without_input.nonzero_input(1) is None
     assert type(predict(with_zero_input, 1, P)) is type(predict(without_input, 1, P))
-    moved = ss.LinearSystem(A, B, C, D, W, V, u=[[0.0, 0.0], [2.0, 0.0]])
+    moved = ss.LinearSystem(A, np.eye(2), C, E=B, F=D, W=W, V=V, u=[[0.0, 0.0], [2.0, 0.0]])
     d = np.array([[1.0, 0.0]])
     assert np.allclose(predict(moved, 1, P).support_many(d), predict(without_input, 1, P).support_many(d) + 2)

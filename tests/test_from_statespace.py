@@ -1,4 +1,4 @@
-"""Plants from python-control: noise models of sampling, the input split, sampling times, Ψ."""
+"""Plants from python-control: noise models of sampling, the input split (B, D known; E noise), sampling times, F."""
 
 import control
 import numpy as np
@@ -63,8 +63,8 @@ def test_bounded_noise_remainder_shrinks_with_the_partition():
 def test_switching_noise_increment_lies_in_bounded_model_and_leaves_zoh_model():
     plant = control.ss(A_MSD, B_MSD, C_MSD, 0)
     W, V = ss.Box([-1.0], [1.0]), ss.Box([-0.01], [0.01])
-    bounded = ss.LinearSystem.from_statespace(plant, W, V, dt=DT)
-    held = ss.LinearSystem.from_statespace(plant, W, V, dt=DT, method="zoh")
+    bounded = ss.LinearSystem.from_statespace(plant, W=W, V=V, noise_inputs=[0], dt=DT)
+    held = ss.LinearSystem.from_statespace(plant, W=W, V=V, noise_inputs=[0], dt=DT, method="zoh")
     for d in ([0.0, 1.0], [1.0, 1.0], [1.0, -0.2]):
         d = np.asarray(d) / np.linalg.norm(d)
         increment = fine_increment(A_MSD, B_MSD, worst_case_noise(A_MSD, B_MSD, DT, d), DT)
@@ -76,7 +76,7 @@ def test_filter_keeps_the_true_state_under_noise_switching_inside_intervals():
     rng = np.random.default_rng(3)
     plant = control.ss(A_MSD, B_MSD, C_MSD, 0)
     W, V, X0 = ss.Box([-1.0], [1.0]), ss.Box([-0.02], [0.02]), ss.Box([-1, -1], [1, 1])
-    system = ss.LinearSystem.from_statespace(plant, W, V, dt=DT)
+    system = ss.LinearSystem.from_statespace(plant, W=W, V=V, noise_inputs=[0], dt=DT)
     T = 12
     Phi = scipy.linalg.expm(A_MSD * DT)
     xs, increments = [np.array([0.3, -0.5])], []
@@ -92,7 +92,7 @@ def test_filter_keeps_the_true_state_under_noise_switching_inside_intervals():
     posteriors = ss.classical_filter(system, X0, ys)
     assert all(P.contains(x) for P, x in zip(posteriors, xs))
     # the same data leave the zero-order-hold model: its filter loses the true state
-    held = ss.LinearSystem.from_statespace(plant, W, V, dt=DT, method="zoh")
+    held = ss.LinearSystem.from_statespace(plant, W=W, V=V, noise_inputs=[0], dt=DT, method="zoh")
     assert not all(P.contains(x) for P, x in zip(ss.classical_filter(held, X0, ys), xs))
 
 
@@ -102,8 +102,8 @@ def test_known_and_noise_inputs_are_split_by_index_and_match_python_control():
     T, dt = 8, 0.1
     rng = np.random.default_rng(0)
     u, w = rng.uniform(-1, 1, (T, 1)), rng.uniform(-1, 1, (T, 1))
-    system = ss.LinearSystem.from_statespace(plant, ss.Box([-1.0], [1.0]), ss.Box([-0.1], [0.1]),
-                                             noise_inputs=[1], inputs=u, dt=dt, method="zoh")
+    system = ss.LinearSystem.from_statespace(plant, W=ss.Box([-1.0], [1.0]), V=ss.Box([-0.1], [0.1]),
+                                             noise_inputs=[1], u=u, dt=dt, method="zoh")
     xs, _ = ss.simulate(system, ss.Box([0, 0], [0, 0]), T, None, x0=[0.0, 0.0], ws=w,
                         vs=np.zeros((T + 1, 1)))
     sampled = control.c2d(plant, dt, method="zoh")
@@ -111,84 +111,90 @@ def test_known_and_noise_inputs_are_split_by_index_and_match_python_control():
                                   U=np.vstack([np.hstack([u, w]), [[0.0, 0.0]]]).T,
                                   X0=[0.0, 0.0], return_x=True)
     assert np.allclose(xs, ref.states.T, atol=1e-12)
-    assert np.allclose(system.B(0), sampled.B[:, [1]])
+    assert np.allclose(system.E_at(0), sampled.B[:, [1]])
 
 
 def test_bounded_mode_with_known_inputs_adds_their_held_response():
     plant = control.ss(A_MSD, np.array([[0.0, 0.0], [1.0, 1.0]]), C_MSD, 0)
     u = np.full((3, 1), 2.0)
-    system = ss.LinearSystem.from_statespace(plant, ss.Box([-1.0], [1.0]), ss.Box([-0.1], [0.1]),
-                                             noise_inputs=[1], inputs=u, dt=0.1)
+    system = ss.LinearSystem.from_statespace(plant, W=ss.Box([-1.0], [1.0]), V=ss.Box([-0.1], [0.1]),
+                                             noise_inputs=[1], u=u, dt=0.1)
     assert np.allclose(system.input_term(1), zoh_matrices(A_MSD, B_MSD, 0.1)[1] @ [2.0])
-    assert system.W.dim == 2 and np.array_equal(system.B(0), np.eye(2))
+    assert system.W.dim == 2 and np.array_equal(system.E_at(0), np.eye(2))
 
 
 def test_callable_known_inputs_are_multiplied_out_per_step():
     plant = control.ss(A_MSD, np.array([[0.0, 0.0], [1.0, 1.0]]), C_MSD, 0, 0.1)
-    system = ss.LinearSystem.from_statespace(plant, ss.Box([-1.0], [1.0]), ss.Box([-0.1], [0.1]),
-                                             noise_inputs=[1], inputs=lambda k: [float(k)])
+    system = ss.LinearSystem.from_statespace(plant, W=ss.Box([-1.0], [1.0]), V=ss.Box([-0.1], [0.1]),
+                                             noise_inputs=[1], u=lambda k: [float(k)])
     assert np.allclose(system.input_term(3), [0.0, 3.0])
 
 
 def test_sampling_time_of_a_discrete_statespace_is_respected():
     plant = control.ss([[0.9]], [[1.0]], [[1.0]], 0, 0.2)
     box = ss.Box([-1.0], [1.0])
-    assert ss.LinearSystem.from_statespace(plant, box, box).dt == 0.2
-    assert ss.LinearSystem.from_statespace(plant, box, box, dt=0.2).dt == 0.2
+    assert ss.LinearSystem.from_statespace(plant, W=box, V=box, noise_inputs=[0]).dt == 0.2
+    assert ss.LinearSystem.from_statespace(plant, W=box, V=box, noise_inputs=[0], dt=0.2).dt == 0.2
     with pytest.raises(ValueError, match=r"dt = 0.1 disagrees .* \(0.2\)"):
-        ss.LinearSystem.from_statespace(plant, box, box, dt=0.1)
+        ss.LinearSystem.from_statespace(plant, W=box, V=box, noise_inputs=[0], dt=0.1)
     unspecified = control.ss([[0.9]], [[1.0]], [[1.0]], 0, True)
-    assert ss.LinearSystem.from_statespace(unspecified, box, box, dt=0.3).dt == 0.3
-    assert ss.LinearSystem.from_statespace(unspecified, box, box).dt is None
+    assert ss.LinearSystem.from_statespace(unspecified, W=box, V=box, noise_inputs=[0], dt=0.3).dt == 0.3
+    assert ss.LinearSystem.from_statespace(unspecified, W=box, V=box, noise_inputs=[0]).dt is None
     with pytest.raises(ValueError, match="applies to continuous models"):
-        ss.LinearSystem.from_statespace(plant, box, box, method="zoh")
+        ss.LinearSystem.from_statespace(plant, W=box, V=box, noise_inputs=[0], method="zoh")
 
 
 @pytest.mark.parametrize("method", ["foh", "tustin", "impulse"])
 def test_unsound_or_unknown_discretizations_are_not_offered(method):
     plant = control.ss(A_MSD, B_MSD, C_MSD, 0)
     with pytest.raises(ValueError, match="'tustin' is not offered"):
-        ss.LinearSystem.from_statespace(plant, ss.Box([-1.0], [1.0]), ss.Box([-1.0], [1.0]), dt=0.1,
-                                        method=method)
+        ss.LinearSystem.from_statespace(plant, W=ss.Box([-1.0], [1.0]), V=ss.Box([-1.0], [1.0]), dt=0.1,
+                                        noise_inputs=[0], method=method)
 
 
-def test_psi_is_the_noise_matrix_and_statespace_d_the_feedthrough():
-    plant = control.ss([[0.5]], [[1.0]], [[1.0]], 0, 1)
+def test_f_is_the_noise_matrix_and_statespace_d_the_feedthrough():
     box = ss.Box([-1.0], [1.0])
-    system = ss.LinearSystem.from_statespace(plant, box, box, Psi=[[0.25]])
-    assert np.array_equal(system.D(0), [[0.25]])
-    with pytest.raises(TypeError, match="'D'"):
-        ss.LinearSystem.from_statespace(plant, box, box, D=[[0.25]])
+    plant = control.ss([[0.5]], [[1.0]], [[1.0]], 0, 1)
+    system = ss.LinearSystem.from_statespace(plant, W=box, V=box, noise_inputs=[0], F=[[0.25]])
+    assert np.array_equal(system.F, [[0.25]])
+    with pytest.raises(TypeError, match="'Psi'"):
+        ss.LinearSystem.from_statespace(plant, W=box, V=box, noise_inputs=[0], Psi=[[0.25]])
     with pytest.raises(ValueError, match="feedthrough D from the noise inputs"):
-        ss.LinearSystem.from_statespace(control.ss([[0.5]], [[1.0]], [[1.0]], [[0.3]], 1), box, box)
-    with pytest.raises(ValueError, match="subtract D u_k"):
-        ss.LinearSystem.from_statespace(control.ss([[0.5]], [[1.0, 1.0]], [[1.0]], [[0.3, 0.0]], 1),
-                                        box, box, noise_inputs=[1], inputs=np.zeros((2, 1)))
+        ss.LinearSystem.from_statespace(control.ss([[0.5]], [[1.0]], [[1.0]], [[0.3]], 1), W=box, V=box,
+                                        noise_inputs=[0])
+    with_feedthrough = control.ss([[0.5]], [[1.0, 1.0]], [[1.0]], [[0.3, 0.0]], 1)
+    system = ss.LinearSystem.from_statespace(with_feedthrough, W=box, V=box, noise_inputs=[1],
+                                             u=np.ones((2, 1)))
+    assert np.array_equal(system.B, [[1.0]]) and np.array_equal(system.D, [[0.3]])
+    assert np.array_equal(system.E, [[1.0]]) and system.has_feedthrough
 
 
 @pytest.mark.parametrize("kwargs, match", [
     (dict(noise_inputs=[2]), r"noise_inputs must be .* in \[0, 2\)"),
     (dict(noise_inputs=[1, 1]), "must not repeat"),
-    (dict(noise_inputs=[1]), "pass their samples as inputs="),
-    (dict(noise_inputs=[0, 1], inputs=np.zeros((3, 1))), "W must have one coordinate per noise input"),
-    (dict(noise_inputs=[1], inputs=np.zeros((3, 2))), r"inputs must have shape \(T, 1\)"),
-    (dict(noise_inputs=[1], inputs=[[0.0], [np.nan]]), r"inputs\[1\]"),
+    (dict(noise_inputs=[1]), r"inputs \[0\] are known inputs .* pass their samples as u="),
+    (dict(), r"inputs \[0, 1\] are known inputs .* or select the noise inputs with noise_inputs="),
+    (dict(noise_inputs=[0, 1]), "W must have one coordinate per noise input"),
+    (dict(noise_inputs=[0, 1], u=np.zeros((3, 1))), "every statespace input is a noise input"),
+    (dict(noise_inputs=[1], u=np.zeros((3, 2))), r"u must have shape \(T, n_u=1\)"),
+    (dict(noise_inputs=[1], u=np.zeros((1, 3))), r"u has shape \(1, 3\), python-control's orientation"),
+    (dict(noise_inputs=[1], u=[[0.0], [np.nan]]), r"u\[1\]"),
+    (dict(noise_inputs=[1], E=[[1.0]], u=np.zeros((3, 1))), "E= and noise_inputs= both"),
 ])
 def test_input_split_errors_name_the_argument(kwargs, match):
     plant = control.ss([[0.5]], [[1.0, 1.0]], [[1.0]], 0, 1)
     with pytest.raises(ValueError, match=match):
-        ss.LinearSystem.from_statespace(plant, ss.Box([-1.0], [1.0]), ss.Box([-1.0], [1.0]), **kwargs)
+        ss.LinearSystem.from_statespace(plant, W=ss.Box([-1.0], [1.0]), V=ss.Box([-1.0], [1.0]), **kwargs)
 
 
 def test_bounded_mode_refuses_an_unbounded_noise_range():
     plant = control.ss(A_MSD, B_MSD, C_MSD, 0)
     with pytest.raises(ValueError, match="W must be bounded"):
-        ss.LinearSystem.from_statespace(plant, ss.Reals(1), ss.Box([-1.0], [1.0]), dt=0.1)
+        ss.LinearSystem.from_statespace(plant, W=ss.Reals(1), V=ss.Box([-1.0], [1.0]), noise_inputs=[0], dt=0.1)
 
 
 def test_simulate_uses_given_noise_sequences_and_checks_their_shape():
-    system = ss.LinearSystem([[0.5]], [[1.0]], [[2.0]], [[1.0]], ss.Box([-1.0], [1.0]),
-                             ss.Box([-1.0], [1.0]))
+    system = ss.LinearSystem([[0.5]], None, [[2.0]], W=ss.Box([-1.0], [1.0]), V=ss.Box([-1.0], [1.0]))
     xs, ys = ss.simulate(system, ss.Box([-1.0], [1.0]), 2, None, x0=[1.0], ws=[[3.0], [0.0]],
                          vs=[0.1, 0.2, 0.3])
     assert np.allclose(xs[:, 0], [1.0, 3.5, 1.75]) and np.allclose(ys[:, 0], [2.1, 7.2, 3.8])
@@ -203,8 +209,9 @@ def test_simulate_uses_given_noise_sequences_and_checks_their_shape():
 def test_sampling_time_is_validated_and_sets_the_tube_plot_time_axis():
     box = ss.Box([-1.0], [1.0])
     with pytest.raises(ValueError, match="dt must be a positive finite sampling time or None"):
-        ss.LinearSystem([[0.5]], [[1.0]], [[1.0]], [[1.0]], box, box, dt=-0.1)
-    system = ss.LinearSystem.from_statespace(control.ss([[0.5]], [[1.0]], [[1.0]], 0, 0.25), box, box)
+        ss.LinearSystem([[0.5]], None, [[1.0]], W=box, V=box, dt=-0.1)
+    system = ss.LinearSystem.from_statespace(control.ss([[0.5]], [[1.0]], [[1.0]], 0, 0.25), W=box, V=box,
+                                             noise_inputs=[0])
     filtered = ss.classical_filter(system, ss.Box([-2.0], [2.0]), [[0.0], [0.5], [1.0]])
     import matplotlib
     matplotlib.use("Agg")

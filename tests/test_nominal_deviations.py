@@ -18,7 +18,7 @@ OFFSET = np.array([3e5, -2e5])
 def offset_system() -> ss.LinearSystem:
     """A constant system held at OFFSET by its input, CZ process noise with a nonzero centre."""
     A = np.array([[0.9, 0.4], [-0.3, 0.8]])
-    return ss.LinearSystem(A, np.eye(2), [[1.0, 0.5]], [[1.0]], W=TRIANGLE_W,
+    return ss.LinearSystem(A, np.eye(2), [[1.0, 0.5]], W=TRIANGLE_W,
                            V=ss.Box([-0.2], [0.3]), u=np.tile((np.eye(2) - A) @ OFFSET, (12, 1)))
 
 
@@ -35,11 +35,11 @@ def test_deviation_form_is_the_model_about_its_nominal_trajectory():
     c_W = system.W._flat_cz.c
     assert np.allclose(form.nominal[0], [0.5, 1.0])
     for k in range(6):
-        step = system.A(k) @ form.nominal[k] + system.B(k) @ c_W + system.input_term(k)
+        step = system.A_at(k) @ form.nominal[k] + system.E_at(k) @ c_W + system.input_term(k)
         assert np.array_equal(form.nominal[k + 1], step)
-        assert np.array_equal(form.system.A(k), system.A(k)) and np.array_equal(form.system.B(k), system.B(k))
+        assert np.array_equal(form.system.A_at(k), system.A_at(k)) and np.array_equal(form.system.E_at(k), system.E_at(k))
     for k in range(7):
-        assert np.allclose(form.ys[k], ys[k] - system.C(k) @ form.nominal[k], atol=1e-14)
+        assert np.allclose(form.ys[k], ys[k] - system.C_at(k) @ form.nominal[k], atol=1e-14)
     assert not form.system.has_input and system.has_input
     assert np.allclose(form.system.W._flat_cz.c, 0.0) and np.allclose(form.X0._flat_cz.c, 0.0)
     assert form.system.W is not system.W and system.W._flat_cz.c[0] == 0.05  # the original untouched
@@ -63,11 +63,11 @@ def test_recursion_smoother_is_translation_equivariant_far_from_the_origin():
     recursion in absolute coordinates was 5e-6 off is reliability case 033,
     ``tests/reliability/test_reliability_regressions.py``.)"""
     system = offset_system()
-    A = system.A(0)
-    centred = ss.LinearSystem(A, np.eye(2), [[1.0, 0.5]], [[1.0]], W=TRIANGLE_W, V=system.V)
+    A = system.A_at(0)
+    centred = ss.LinearSystem(A, None, [[1.0, 0.5]], W=TRIANGLE_W, V=system.V)
     X0 = ss.Box([-1.0, -1.0], [1.0, 1.0])
     xs, ys = data(centred, X0, 12, 4)
-    shifted_ys = ys + (system.C(0) @ OFFSET)
+    shifted_ys = ys + (system.C_at(0) @ OFFSET)
     near = ss.optimal_smoother(centred, X0, ys, method="recursion")
     far = ss.optimal_smoother(system, translate(X0, OFFSET), shifted_ys, method="recursion")
     for k, (P, Q) in enumerate(zip(near, far)):

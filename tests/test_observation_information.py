@@ -15,12 +15,12 @@ UNIT1 = ss.Box([-1.0], [1.0])
 
 
 def _example25():
-    return ss.LinearSystem([[1.0, 1.0], [0.0, 1.0]], [[0.5], [1.0]], [[1.0, 0.0]], [[1.0]], W=UNIT1, V=UNIT1)
+    return ss.LinearSystem([[1.0, 1.0], [0.0, 1.0]], None, [[1.0, 0.0]], E=[[0.5], [1.0]], W=UNIT1, V=UNIT1)
 
 
 def test_scalar_observation_information_set_in_closed_form():
     a = 1.5
-    system = ss.LinearSystem([[a]], [[1.0]], [[1.0]], [[1.0]], W=UNIT1, V=UNIT1)
+    system = ss.LinearSystem([[a]], None, [[1.0]], W=UNIT1, V=UNIT1)
     ys = np.array([[0.3], [0.7], [-0.2], [0.1]])
     for i in range(4):
         for k in range(i, 6):
@@ -70,7 +70,7 @@ def test_tower_shrinks_as_delta_grows():
 def test_tower_diameter_respects_bound_16(seed):
     system = _example25()
     _, ys = ss.simulate(system, ss.Box([1.0, 1.0], [3.0, 3.0]), 8, np.random.default_rng(seed))
-    A, B, C = system.A(0), system.B(0), system.C(0)
+    A, B, C = system.A_at(0), system.E_at(0), system.C_at(0)
     for delta in (1, 2, 3):
         bound = analysis.oit_diameter_bound(A, B, C, system.W, system.V, delta)
         for k in (delta, 8):

@@ -29,7 +29,7 @@ def triangle_system() -> ss.LinearSystem:
     and a zonotope V (issue 8's CZ-noise case)."""
     base = smoothing_example_31()
     V = ss.Zonotope([[1.0, 0.3, 0.0], [0.0, 0.5, 0.8]], [0.1, -0.2])
-    return ss.LinearSystem(base.A(0), np.eye(2), base.C(0), base.D(0), W=TRIANGLE, V=V)
+    return ss.LinearSystem(base.A_at(0), None, base.C_at(0), F=base.F_at(0), W=TRIANGLE, V=V)
 
 
 def recursion_posteriors(system, X0, ys):
@@ -60,14 +60,14 @@ def highs_support(system, X0: ss.Box, ys, k: int, d: np.ndarray, last: int | Non
 
     G_w, G_v = np.asarray(Zw.G.todense()) if sp.issparse(Zw.G) else Zw.G, np.asarray(Zv.G)
     for j in range(k):
-        Bj = system.B(j)
-        row_block([(n * (j + 1), np.eye(n)), (n * j, -system.A(j)), (nx + gw * j, -Bj @ G_w)],
+        Bj = system.E_at(j)
+        row_block([(n * (j + 1), np.eye(n)), (n * j, -system.A_at(j)), (nx + gw * j, -Bj @ G_w)],
                   Bj @ Zw.c)
         if Zw.nc:
             row_block([(nx + gw * j, np.asarray(Zw.A.todense()) if sp.issparse(Zw.A) else Zw.A)], Zw.b)
     for j in range(k + 1):
-        Dj = system.D(j)
-        row_block([(n * j, system.C(j)), (nx + nw + gv * j, Dj @ G_v)], ys[j] - Dj @ Zv.c)
+        Dj = system.F_at(j)
+        row_block([(n * j, system.C_at(j)), (nx + nw + gv * j, Dj @ G_v)], ys[j] - Dj @ Zv.c)
         if Zv.nc:
             row_block([(nx + nw + gv * j, np.asarray(Zv.A))], Zv.b)
     bounds = [(lo, hi) for lo, hi in zip(X0.lo, X0.hi)] + [(None, None)] * (nx - n) + [(-1, 1)] * (nw + nv)
@@ -237,7 +237,7 @@ def test_joined_factor_sets_carry_their_parts_free_bounds_soundly():
     ys = rng.uniform(-1.0, 1.0, size=(6, system.m))
     views = ss.classical_filter(system, X0, ys)
     P = views[3]
-    S = generalized_intersection(P, system.A(3), minkowski_sum(views[4], system.W))
+    S = generalized_intersection(P, system.A_at(3), minkowski_sum(views[4], system.W))
     beta = S.factors._free_bound
     assert beta is not None and beta[0] == max(P.factors.free_bound(), views[4].factors.free_bound())
     assert _factor_extremes(S) <= beta[0]

@@ -168,8 +168,8 @@ def test_interval_hulls_in_threads_are_the_serial_ones_and_kept_on_the_sets():
     B = np.array([[0.1, 0.0], [0.0, 0.1], [0.05, 0.05]])
     W = ss.ConstrainedZonotope(np.array([[0.4, -0.3, 0.1], [0.1, 0.2, -0.35]]), np.zeros(2),
                                A=[[1.0, 1.0, 1.0]], b=[1.0])  # the triangle CZ
-    system = ss.LinearSystem(A, B, [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]], np.eye(2), W,
-                             ss.Box([-0.5, -0.5], [0.5, 0.5]))
+    system = ss.LinearSystem(A, None, [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]], E=B, W=W,
+                             V=ss.Box([-0.5, -0.5], [0.5, 0.5]))
     X0 = ss.Box(-np.ones(3), np.ones(3))
     xs, ys = ss.simulate(system, X0, 30, rng)
     serial = ss.optimal_smoother(system, X0, ys).interval_hulls(certified=True)
@@ -190,7 +190,7 @@ def test_interval_hulls_refuses_a_bad_worker_count(run, workers):
 
 def test_the_hulls_of_many_sets_show_their_progress_on_request(capsys):
     box = ss.Box([-1.0], [1.0])
-    system = ss.LinearSystem([[1.0]], [[1.0]], [[1.0]], [[1.0]], W=box, V=box)
+    system = ss.LinearSystem([[1.0]], None, [[1.0]], W=box, V=box)
     ys = [[0.0], [0.5], [1.0]]
     ss.classical_filter(system, ss.Box([-5.0], [5.0]), ys).interval_hulls(progress=True)
     assert "interval hulls" in capsys.readouterr().err

@@ -23,9 +23,9 @@ def test_authors_trajectories_follow_the_model_and_start_in_the_true_set(figures
         system = example.system()
         assert xs.shape == (51, 2) and ys.shape == (51, 1)
         assert np.all((xs[0] >= 1) & (xs[0] <= 3))
-        w = np.linalg.lstsq(system.B(0), (xs[1:] - xs[:-1] @ system.A(0).T).T, rcond=None)[0]
-        assert np.allclose(system.B(0) @ w, (xs[1:] - xs[:-1] @ system.A(0).T).T) and np.all(np.abs(w) <= 1)
-        assert np.all(np.abs(ys - xs @ system.C(0).T) <= 1)
+        w = np.linalg.lstsq(system.E_at(0), (xs[1:] - xs[:-1] @ system.A_at(0).T).T, rcond=None)[0]
+        assert np.allclose(system.E_at(0) @ w, (xs[1:] - xs[:-1] @ system.A_at(0).T).T) and np.all(np.abs(w) <= 1)
+        assert np.all(np.abs(ys - xs @ system.C_at(0).T) <= 1)
 
 
 def test_fig2_small_reproduces_the_published_claims(figures, tmp_path):

@@ -14,10 +14,10 @@ def test_simulated_noises_lie_in_their_sets():
     xs, ys = ss.simulate(sys, ss.Box([-5, -5], [5, 5]), 30, np.random.default_rng(1))
     assert xs.shape == (31, 2) and ys.shape == (31, 2)
     for k in range(30):
-        w = np.linalg.lstsq(sys.B(k), xs[k + 1] - sys.A(k) @ xs[k], rcond=None)[0]
-        assert np.allclose(sys.B(k) @ w, xs[k + 1] - sys.A(k) @ xs[k])
+        w = np.linalg.lstsq(sys.E_at(k), xs[k + 1] - sys.A_at(k) @ xs[k], rcond=None)[0]
+        assert np.allclose(sys.E_at(k) @ w, xs[k + 1] - sys.A_at(k) @ xs[k])
         assert -1 - 1e-12 <= w[0] <= 1 + 1e-12
-    v = ys - xs @ sys.C(0).T
+    v = ys - xs @ sys.C_at(0).T
     assert np.all(np.abs(v) <= 1 + 1e-12)
 
 
@@ -34,53 +34,57 @@ def test_time_varying_matrices_and_known_input_drive_the_simulation():
     sys = time_varying_system()
     xs, _ = ss.simulate(sys, ss.Box([-1, -1], [1, 1]), 5, np.random.default_rng(0))
     for k in range(5):
-        w = np.linalg.solve(sys.B(k), xs[k + 1] - sys.A(k) @ xs[k] - sys.input_term(k))
+        w = np.linalg.solve(sys.E_at(k), xs[k + 1] - sys.A_at(k) @ xs[k] - sys.input_term(k))
         assert sys.W.contains(w)
 
 
 def test_sequence_of_matrices_is_indexed_by_k():
     A = [np.eye(2) * (k + 1) for k in range(3)]
-    sys = ss.LinearSystem(A, np.eye(2), np.eye(2), np.eye(2), ss.Box([0, 0], [0, 0]), ss.Box([0, 0], [0, 0]))
-    assert np.array_equal(sys.A(2), 3 * np.eye(2))
+    sys = ss.LinearSystem(A, None, np.eye(2), W=ss.Box([0, 0], [0, 0]), V=ss.Box([0, 0], [0, 0]))
+    assert np.array_equal(sys.A_at(2), 3 * np.eye(2))
     with pytest.raises(IndexError, match="A is given for k in"):
-        sys.A(3)
+        sys.A_at(3)
 
 
 def test_from_statespace_keeps_a_discrete_model():
     ssd = control.StateSpace([[0.9, 0.1], [0.0, 0.8]], [[1.0], [0.5]], [[1.0, 0.0]], [[0.0]], 1)
-    sys = ss.LinearSystem.from_statespace(ssd, ss.Box([-1], [1]), ss.Box([-1], [1]))
-    assert np.allclose(sys.A(0), [[0.9, 0.1], [0.0, 0.8]]) and np.allclose(sys.D(0), [[1.0]])
+    sys = ss.LinearSystem.from_statespace(ssd, W=ss.Box([-1], [1]), V=ss.Box([-1], [1]), noise_inputs=[0])
+    assert np.allclose(sys.A, [[0.9, 0.1], [0.0, 0.8]]) and np.allclose(sys.E, [[1.0], [0.5]])
+    assert np.allclose(sys.F, [[1.0]]) and sys.n_u == 0
 
 
 def test_from_statespace_zoh_mode_matches_c2d():
     ssc = control.StateSpace([[0.0, 1.0], [-1.0, -0.5]], [[0.0], [1.0]], [[1.0, 0.0]], [[0.0]])
-    sys = ss.LinearSystem.from_statespace(ssc, ss.Box([-1], [1]), ss.Box([-1], [1]), dt=0.1,
-                                          method="zoh")
+    sys = ss.LinearSystem.from_statespace(ssc, W=ss.Box([-1], [1]), V=ss.Box([-1], [1]), dt=0.1,
+                                          method="zoh", noise_inputs=[0])
     expected = control.c2d(ssc, 0.1, method="zoh")
-    assert np.allclose(sys.A(0), expected.A) and np.allclose(sys.B(0), expected.B)
+    assert np.allclose(sys.A, expected.A) and np.allclose(sys.E, expected.B)
     with pytest.raises(ValueError, match="dt"):
-        ss.LinearSystem.from_statespace(ssc, ss.Box([-1], [1]), ss.Box([-1], [1]))
+        ss.LinearSystem.from_statespace(ssc, W=ss.Box([-1], [1]), V=ss.Box([-1], [1]), noise_inputs=[0])
 
 
-def test_from_statespace_rejects_feedthrough():
+def test_from_statespace_rejects_feedthrough_from_a_noise_input():
     ssd = control.StateSpace([[0.5]], [[1.0]], [[1.0]], [[0.3]], 1)
-    with pytest.raises(ValueError, match="feedthrough"):
-        ss.LinearSystem.from_statespace(ssd, ss.Box([-1], [1]), ss.Box([-1], [1]))
+    with pytest.raises(ValueError, match="feedthrough D from the noise inputs"):
+        ss.LinearSystem.from_statespace(ssd, W=ss.Box([-1], [1]), V=ss.Box([-1], [1]), noise_inputs=[0])
 
 
 @pytest.mark.parametrize("kwargs, match", [
     (dict(A=np.ones((2, 3))), "A must be square"),
     (dict(B=np.ones((3, 1))), r"B must have shape \(2, any\)"),
-    (dict(W=ss.Box([-1, -1], [1, 1])), r"B must have W.dim = 2 columns .* check B and W"),
+    (dict(D=np.ones((1, 2))), r"D must have shape \(1, 1\)"),
+    (dict(W=ss.Box([-1, -1], [1, 1])), r"E must have W.dim = 2 columns .* check E and W"),
+    (dict(E=None), r"E=None means E = I, which needs W.dim = n = 2, got W.dim = 1"),
     (dict(C=np.ones((1, 3))), r"C must have shape \(any, 2\)"),
-    (dict(D=np.ones((1, 2))), r"D must have V.dim = 1 columns .* check D and V"),
+    (dict(F=np.ones((1, 2))), r"F must have V.dim = 1 columns .* check F and V"),
+    (dict(V=ss.Box([-1, -1], [1, 1]), F=None), r"F=None means F = I, which needs V.dim = m = 1"),
     (dict(A=[np.eye(2), np.eye(3)]), r"A\[1\] has shape \(3, 3\) but A\[0\] has shape \(2, 2\)"),
     (dict(W="box"), "W must be a ConvexSet"),
-    (dict(u=np.ones((5, 3))), r"u must have shape \(T, n=2\)"),
+    (dict(u=np.ones((5, 3))), r"u must have shape \(T, n_u=1\)"),
 ])
 def test_linear_system_rejects_inconsistent_dimensions(kwargs, match):
-    args = dict(A=np.eye(2), B=np.ones((2, 1)), C=np.ones((1, 2)), D=np.ones((1, 1)),
-                W=ss.Box([-1], [1]), V=ss.Box([-1], [1]))
+    args = dict(A=np.eye(2), B=np.ones((2, 1)), C=np.ones((1, 2)), D=np.ones((1, 1)), E=np.ones((2, 1)),
+                F=[[1.0]], W=ss.Box([-1], [1]), V=ss.Box([-1], [1]), u=np.ones((5, 1)))
     args.update(kwargs)
     with pytest.raises((ValueError, TypeError), match=match):
         ss.LinearSystem(**args)
@@ -119,12 +123,13 @@ def _systems_to_pickle():
     B, C, D = [[0.5], [1.0]], [[0.5, 0.5], [1.0, 0.3]], np.eye(2)
     A = rotation(0)
     return {
-        "u sequence": ss.LinearSystem(A, B, C, D, W, V, u=np.arange(12.0).reshape(6, 2) / 10),
-        "u callable": ss.LinearSystem(A, B, C, D, W, V, u=drift),
-        "u partial": ss.LinearSystem(A, B, C, D, W, V, u=functools.partial(drift, scale=0.3)),
-        "A callable": ss.LinearSystem(rotation, B, C, D, W, V),
-        "A sequence": ss.LinearSystem([rotation(k) for k in range(6)], B, C, D, W, V),
-        "B sequence": ss.LinearSystem(A, np.array([B] * 6) * 0.5, C, D, W, V),
+        "u sequence": ss.LinearSystem(A, np.eye(2), C, E=B, F=D, W=W, V=V, u=np.arange(12.0).reshape(6, 2) / 10),
+        "u callable": ss.LinearSystem(A, np.eye(2), C, E=B, F=D, W=W, V=V, u=drift),
+        "u partial": ss.LinearSystem(A, np.eye(2), C, [[0.1, 0.0], [0.0, 0.2]], E=B, F=D, W=W, V=V,
+                                     u=functools.partial(drift, scale=0.3)),
+        "A callable": ss.LinearSystem(rotation, None, C, E=B, F=D, W=W, V=V),
+        "A sequence": ss.LinearSystem([rotation(k) for k in range(6)], None, C, E=B, F=D, W=W, V=V),
+        "B sequence": ss.LinearSystem(A, None, C, E=np.array([B] * 6) * 0.5, F=D, W=W, V=V),
     }
 
 
@@ -134,8 +139,9 @@ def test_linear_system_pickles_with_its_inputs_and_time_varying_matrices(name):
     sys.process_noise_image(0)  # a cached image must not stop (or bloat) the pickle
     copy = pickle.loads(pickle.dumps(sys))
     for k in range(5):
-        for M in ("A", "B", "C", "D"):
+        for M in ("A_at", "B_at", "C_at", "D_at", "E_at", "F_at"):
             assert np.array_equal(getattr(copy, M)(k), getattr(sys, M)(k))
+        assert np.array_equal(copy.feedthrough_term(k), sys.feedthrough_term(k))
         assert np.array_equal(copy.input_term(k), sys.input_term(k))
     X0 = ss.Box([-5, -5], [5, 5])
     _, ys = ss.simulate(sys, X0, 5, np.random.default_rng(0))
@@ -145,16 +151,16 @@ def test_linear_system_pickles_with_its_inputs_and_time_varying_matrices(name):
 
 
 def test_a_callable_matrix_is_checked_at_every_call_and_never_reshaped():
-    sys = ss.LinearSystem(lambda k: np.eye(2) if k < 3 else np.ones(4), np.eye(2), np.eye(2), np.eye(2),
-                          ss.Box([-1, -1], [1, 1]), ss.Box([-1, -1], [1, 1]))
-    assert np.array_equal(sys.A(2), np.eye(2))
+    sys = ss.LinearSystem(lambda k: np.eye(2) if k < 3 else np.ones(4), None, np.eye(2),
+                          W=ss.Box([-1, -1], [1, 1]), V=ss.Box([-1, -1], [1, 1]))
+    assert np.array_equal(sys.A_at(2), np.eye(2))
     with pytest.raises(ValueError, match=r"A\(3\) must have shape \(2, 2\), got \(1, 4\)"):
-        sys.A(3)
+        sys.A_at(3)
 
 
 def test_input_sequence_names_the_step_it_lacks():
-    sys = ss.LinearSystem(np.eye(2), np.eye(2), np.eye(2), np.eye(2), ss.Box([-1, -1], [1, 1]),
-                          ss.Box([-1, -1], [1, 1]), u=np.zeros((3, 2)))
+    sys = ss.LinearSystem(np.eye(2), np.eye(2), np.eye(2), W=ss.Box([-1, -1], [1, 1]),
+                          V=ss.Box([-1, -1], [1, 1]), u=np.zeros((3, 2)))
     with pytest.raises(IndexError, match=r"u is given for k in \[0, 3\), asked for k = 3"):
         sys.input_term(3)
 
@@ -168,8 +174,9 @@ def test_simulate_refuses_an_initial_state_outside_x0_set():
 
 def test_the_system_keeps_private_copies_of_its_matrices_and_inputs():
     B, u = np.array([[0.5], [1.0]]), np.zeros((4, 2))
-    sys = ss.LinearSystem(np.eye(2), B, np.eye(2), np.eye(2), ss.Box([-1], [1]), ss.Box([-1, -1], [1, 1]), u=u)
+    sys = ss.LinearSystem(np.eye(2), np.eye(2), np.eye(2), E=B, W=ss.Box([-1], [1]), V=ss.Box([-1, -1], [1, 1]),
+                          u=u)
     image = sys.process_noise_image(0).support([1.0, 0.0])
     B[0, 0], u[1, 0] = 7.0, 3.0
-    assert sys.B(0)[0, 0] == 0.5 and sys.input_term(1)[0] == 0.0
+    assert sys.E_at(0)[0, 0] == 0.5 and sys.input_term(1)[0] == 0.0
     assert sys.process_noise_image(0).support([1.0, 0.0]) == image

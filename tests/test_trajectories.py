@@ -36,7 +36,7 @@ def _random_system(rng, n, time_varying=False, with_input=False, sparse_noise=Fa
         B = lambda k: B0 * (1.0 + 0.1 * np.sin(k))  # noqa: E731  (a callable of k)
     if with_input:
         u = rng.normal(size=(40, n))
-    return ss.LinearSystem(A, B, C, np.eye(m), W, V, u=u)
+    return ss.LinearSystem(A, None if u is None else np.eye(n), C, E=B, W=W, V=V, u=u)
 
 
 @pytest.mark.parametrize("seed,time_varying,with_input,sparse_noise",
@@ -160,13 +160,12 @@ def test_trajectory_projections_share_one_factor_set():
 @pytest.mark.parametrize("start,stop,match", [(-1, None, "start"), (2, 1, "start <= stop"),
                                               (0, 3, "T = 2"), (1.0, None, "integer")])
 def test_trajectory_window_outside_the_measurements_is_refused(start, stop, match):
-    sys = ss.LinearSystem(np.eye(1), np.eye(1), np.eye(1), np.eye(1), ss.Box([-1], [1]), ss.Box([-1], [1]))
+    sys = ss.LinearSystem(np.eye(1), None, np.eye(1), W=ss.Box([-1], [1]), V=ss.Box([-1], [1]))
     with pytest.raises((ValueError, TypeError), match=match):
         ss.trajectory_set(sys, ss.Box([-1], [1]), np.zeros((3, 1)), start, stop)
 
 
 def test_filtering_map_refuses_a_prior_of_the_wrong_dimension():
-    sys = ss.LinearSystem(np.eye(2), np.eye(2), np.eye(2), np.eye(2), ss.Box([-1, -1], [1, 1]),
-                          ss.Box([-1, -1], [1, 1]))
+    sys = ss.LinearSystem(np.eye(2), None, np.eye(2), W=ss.Box([-1, -1], [1, 1]), V=ss.Box([-1, -1], [1, 1]))
     with pytest.raises(ValueError, match="prior must be a ConvexSet of dimension n = 2"):
         ss.filtering_map(sys, ss.Box([-1], [1]), np.zeros((3, 2)), 0, 2)

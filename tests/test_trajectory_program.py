@@ -20,7 +20,7 @@ def _system(kind):
     W, V = {"ellipsoid": (ss.Ellipsoid([0.1], [[0.8]]), base.V),
             "custom": (L1Ball([0.0], 1.0), square),
             "ellipsoid_V": (base.W, ss.Ellipsoid([0.0, 0.1], [[1.0, 0.2], [0.2, 0.5]]))}[kind]
-    return ss.LinearSystem(base.A(0), base.B(0), base.C(0), base.D(0), W=W, V=V)
+    return ss.LinearSystem(base.A_at(0), None, base.C_at(0), E=base.E_at(0), F=base.F_at(0), W=W, V=V)
 
 
 def _recursion_filter(sys, X0, ys):
@@ -87,8 +87,8 @@ def test_every_projection_is_answered_by_one_compiled_problem(monkeypatch):
 
 def test_an_unobserved_direction_of_an_unbounded_prior_is_unbounded():
     # x[1] is never measured and never moves x[0]: with X0 = ℝ² its smoothed range is unbounded.
-    sys = ss.LinearSystem(np.eye(2), np.eye(2), [[1.0, 0.0]], [[1.0]],
-                          W=ss.Ellipsoid([0.0, 0.0], 0.1 * np.eye(2)), V=L1Ball([0.0], 1.0))
+    sys = ss.LinearSystem(np.eye(2), None, [[1.0, 0.0]], W=ss.Ellipsoid([0.0, 0.0], 0.1 * np.eye(2)),
+                          V=L1Ball([0.0], 1.0))
     _, ys = ss.simulate(sys, ss.Box([-1, -1], [1, 1]), 3, np.random.default_rng(5))
     smoothed = ss.optimal_smoother(sys, ss.Reals(2), ys)
     values = smoothed[1].support_many(np.array([[1.0, 0.0], [0.0, 1.0]]))

@@ -17,7 +17,7 @@ from setsmooth.runs.montecarlo import run
 
 def _system(**kwargs):
     args = dict(W=ss.Box([-0.1, -0.1], [0.1, 0.1]), V=ss.Box([-0.1], [0.1])) | kwargs
-    return ss.LinearSystem([[0.9, 0.1], [0.0, 0.8]], np.eye(2), [[1.0, 0.0]], [[1.0]], **args)
+    return ss.LinearSystem([[0.9, 0.1], [0.0, 0.8]], None, [[1.0, 0.0]], **args)
 
 
 X0 = ss.Box([-1.0, -1.0], [1.0, 1.0])
@@ -108,11 +108,11 @@ def test_simulate_on_a_flat_measurement_noise_set_names_vs():
 
 
 def test_linear_system_repr_says_what_it_is():
-    text = repr(ss.LinearSystem(lambda k: np.eye(2), np.eye(2), [[1.0, 0.0]], [[1.0]],
-                                W=ss.Box([-1, -1], [1, 1]), V=ss.Box([-1], [1]), dt=0.1))
+    text = repr(ss.LinearSystem(lambda k: np.eye(2), None, [[1.0, 0.0]], W=ss.Box([-1, -1], [1, 1]),
+                                V=ss.Box([-1], [1]), dt=0.1))
     assert text.startswith("LinearSystem(n=2, m=1, W=Box(lo=[-1.0, -1.0]")
     assert "time-varying A: callable of k" in text and "dt=0.1" in text
-    assert "constant A, B, C, D" in repr(_system())
+    assert "constant matrices" in repr(_system())
 
 
 @pytest.fixture
@@ -135,17 +135,17 @@ def test_a_statespace_where_a_system_is_expected_leads_to_from_statespace(plant,
         call(plant)
 
 
-def test_a_callable_A_of_the_wrong_size_is_blamed_not_B():
-    with pytest.raises(ValueError, match=r"^A\(0\) has shape \(3, 3\), but B has 2 rows and C has 2 "
+def test_a_callable_A_of_the_wrong_size_is_blamed_not_E():
+    with pytest.raises(ValueError, match=r"^A\(0\) has shape \(3, 3\), but E has 2 rows and C has 2 "
                                          r"columns: A must be 2×2"):
-        ss.LinearSystem(lambda k: np.eye(3), np.eye(2), [[1.0, 0.0]], [[1.0]],
-                        W=ss.Box([-1, -1], [1, 1]), V=ss.Box([-1], [1]))
+        ss.LinearSystem(lambda k: np.eye(3), None, [[1.0, 0.0]], E=np.eye(2), W=ss.Box([-1, -1], [1, 1]),
+                        V=ss.Box([-1], [1]))
 
 
-def test_a_B_of_the_wrong_size_is_still_blamed_on_B():
-    with pytest.raises(ValueError, match=r"^B must have shape \(2, any\), got \(3, 2\)"):
-        ss.LinearSystem(np.eye(2), np.ones((3, 2)), [[1.0, 0.0]], [[1.0]],
-                        W=ss.Box([-1, -1], [1, 1]), V=ss.Box([-1], [1]))
+def test_an_E_of_the_wrong_size_is_still_blamed_on_E():
+    with pytest.raises(ValueError, match=r"^E must have shape \(2, any\), got \(3, 2\)"):
+        ss.LinearSystem(np.eye(2), None, [[1.0, 0.0]], E=np.ones((3, 2)), W=ss.Box([-1, -1], [1, 1]),
+                        V=ss.Box([-1], [1]))
 
 
 def test_boolean_measurements_are_refused_naming_ys():

@@ -44,12 +44,12 @@ def block_assembly(system, X0, ys):
     rows.append(block(n, [(0, eye), (col_x0, -sp.csr_matrix(Z0.G))]))
     rhs.append(Z0.c)
     for k in range(T):
-        Bk = system.B(k)
-        rows.append(block(n, [((k + 1) * n, eye), (k * n, -system.A(k)),
+        Bk = system.E_at(k)
+        rows.append(block(n, [((k + 1) * n, eye), (k * n, -system.A_at(k)),
                               (col_w + k * Zw.ng, -(Bk @ dense(Zw.G)))]))
         rhs.append(Bk @ Zw.c + system.input_term(k))
     for k in range(T + 1):
-        Dk = system.D(k)
-        rows.append(block(system.m, [(k * n, system.C(k)), (col_v + k * Zv.ng, Dk @ dense(Zv.G))]))
+        Dk = system.F_at(k)
+        rows.append(block(system.m, [(k * n, system.C_at(k)), (col_v + k * Zv.ng, Dk @ dense(Zv.G))]))
         rhs.append(ys[k] - Dk @ Zv.c)
     return sp.vstack(rows, format="csc"), np.concatenate(rhs)

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from .._validation import as_measurements
+from .._validation import measured
 from ..sets.base import ConvexSet
 from ..sets.reals import Reals
 
@@ -32,14 +32,17 @@ def _check_time(value: Any, name: str, lo: int, hi: int, what: str) -> int:
 
 
 def observation_set(system, y_i: Any, i: int) -> ConvexSet:
-    """X_i(C, y_i, ⟦v_i⟧) = {x : y_i − C_i x ∈ D_i V}, the states consistent with y_i alone (stability (4))."""
-    return Reals(system.n).intersect_preimage(system.C(i), y_i + system.measurement_noise_image(i))
+    """X_i(C, y_i, ⟦v_i⟧) = {x : y_i − C_i x ∈ F_i V}, the states consistent with y_i alone (stability (4)).
+
+    ``y_i`` without the feedthrough (y_i − D_i u_i, as the door `setsmooth._validation.measured` gives it).
+    """
+    return Reals(system.n).intersect_preimage(system.C_at(i), y_i + system.measurement_noise_image(i))
 
 
 def _carry(system, S: ConvexSet, i: int, k: int) -> ConvexSet:
-    """The prediction step alone from time i to k: S ↦ A_r S ⊕ B_r W ⊕ {u_r}, r = i..k−1 (stability (3))."""
+    """The prediction step alone from time i to k: S ↦ A_r S ⊕ E_r W ⊕ {B_r u_r}, r = i..k−1 (stability (3))."""
     for r in range(i, k):
-        S = system.A(r) @ S + system.process_noise_image(r)
+        S = system.A_at(r) @ S + system.process_noise_image(r)
         u = system.nonzero_input(r)
         if u is not None:
             S = S + u
@@ -67,12 +70,12 @@ def observation_information_set(system, ys: Any, k: int, i: int) -> ConvexSet:
     --------
     >>> import setsmooth as ss
     >>> unit = ss.Box([-1.0], [1.0])
-    >>> system = ss.LinearSystem([[2.0]], [[1.0]], [[1.0]], [[1.0]], W=unit, V=unit)
+    >>> system = ss.LinearSystem([[2.0]], None, [[1.0]], W=unit, V=unit)
     >>> hull = ss.observation_information_set(system, [[0.5]], 2, 0).interval_hull()
     >>> hull.lo.round(9).tolist(), hull.hi.round(9).tolist()     # 4·[−0.5, 1.5] ⊕ (2 + 1)·[−1, 1]
     ([-5.0], [9.0])
     """
-    ys = as_measurements(ys, system.m)
+    system, ys = measured(system, ys)
     i = _check_time(i, "i", 0, len(ys) - 1, f"0 ≤ i ≤ T = {len(ys) - 1}")
     k = _check_time(k, "k", i, 2**62, f"k ≥ i = {i}")
     return _carry(system, observation_set(system, ys[i], i), i, k)
@@ -110,14 +113,14 @@ def observation_information_tower(system, ys: Any, k: int, delta: int) -> Convex
     --------
     >>> import numpy as np, setsmooth as ss
     >>> unit = ss.Box([-1.0], [1.0])
-    >>> system = ss.LinearSystem([[1.0, 1.0], [0.0, 1.0]], [[0.5], [1.0]], [[1.0, 0.0]], [[1.0]],
+    >>> system = ss.LinearSystem([[1.0, 1.0], [0.0, 1.0]], None, [[1.0, 0.0]], E=[[0.5], [1.0]],
     ...                          W=unit, V=unit)
     >>> ys = np.array([[0.0], [1.0], [2.0]])
     >>> tower = ss.observation_information_tower(system, ys, 2, 1)   # bounded: δ = 1 ≥ μ − 1
     >>> bool(np.all(np.isfinite(tower.interval_hull().hi)))
     True
     """
-    ys = as_measurements(ys, system.m)
+    system, ys = measured(system, ys)
     T = len(ys) - 1
     k = _check_time(k, "k", 0, T, f"0 ≤ k ≤ T = {T}")
     delta = _check_time(delta, "delta", 0, k, f"0 ≤ delta ≤ k = {k}")

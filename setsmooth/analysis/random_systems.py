@@ -61,7 +61,7 @@ class RandomSystem:
         p, m = self.B.shape[1], self.C.shape[0]
         W = Box(-np.ones(p), np.ones(p)) if W is None else W
         V = Box(-np.ones(m), np.ones(m)) if V is None else V
-        return LinearSystem(self.A, self.B, self.C, np.eye(m), W=W, V=V)
+        return LinearSystem(self.A, None, self.C, E=self.B, W=W, V=V)
 
 
 def _probability(value: Any, name: str) -> float:

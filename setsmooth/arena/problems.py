@@ -74,7 +74,7 @@ def _thin_noise(rng: np.random.Generator, T: int) -> tuple[LinearSystem, ConvexS
     # thinner than the states, where rounding at the states' scale shows.
     base = smoothing_example_31()
     thin = 1e-5
-    system = LinearSystem(base.A(0), base.B(0), base.C(0), base.D(0),
+    system = LinearSystem(base.A, None, base.C, E=base.E, F=base.F,
                           W=Box([-thin], [thin]), V=Box([-thin, -thin], [thin, thin]))
     return system, smoothing_example_31_x0()
 
@@ -86,8 +86,8 @@ def _mass_spring_damper(rng: np.random.Generator, T: int) -> tuple[LinearSystem,
     # 0.25 s to within 0.02. 'bounded' sampling: sound for any w(t) in W at every instant.
     omega, zeta = 2 * np.pi, 0.05
     plant = control.ss([[0.0, 1.0], [-omega ** 2, -2 * zeta * omega]], [[0.0], [1.0]], [[1.0, 0.0]], 0)
-    system = LinearSystem.from_statespace(plant, Box([-1.0], [1.0]), Box([-0.02], [0.02]), dt=0.25,
-                                          partition=8)
+    system = LinearSystem.from_statespace(plant, W=Box([-1.0], [1.0]), V=Box([-0.02], [0.02]),
+                                          noise_inputs=[0], dt=0.25, partition=8)
     return system, Box([-0.3, -1.0], [0.3, 1.0])
 
 

@@ -2,10 +2,10 @@
 
 Stability paper Algorithm 1 with every set a convex polygon in closed form (no solver):
 
-    prior_k     = A_{k-1} posterior_{k-1} ⊕ B_{k-1} W ⊕ {u_{k-1}}     vertex images and sums
+    prior_k     = A_{k-1} posterior_{k-1} ⊕ E_{k-1} W ⊕ {B_{k-1} u_{k-1}}   vertex images and sums
     posterior_k = { x ∈ prior_k : N C_k x ≤ h + N y_k }                 clipping by half-planes
 
-where N y ≤ h are the half-planes of D_k(−V) (exact for a box or an H-polytope of any dimension,
+where N y ≤ h are the half-planes of F_k(−V) (exact for a box or an H-polytope of any dimension,
 rounded up for a planar polygon). Each `Polygon` contains the exact posterior and exceeds it only by
 rounding (`setsmooth.sets.polygon`); a posterior is `EmptySet` only when certainly empty.
 """
@@ -31,8 +31,8 @@ def polygon_posteriors(system, X0: ConvexSet, ys: np.ndarray) -> list[ConvexSet]
     Raises
     ------
     ValueError
-        When the form does not apply: n ≠ 2, or X0, B_k W or D_k(−V) has no polygon / half-plane
-        closed form (X0 and B_k W: a 2-D Polygon, bounded Box, Zonotope or VPolytope; D_k(−V): also
+        When the form does not apply: n ≠ 2, or X0, E_k W or F_k(−V) has no polygon / half-plane
+        closed form (X0 and E_k W: a 2-D Polygon, bounded Box, Zonotope or VPolytope; F_k(−V): also
         a Box or HPolytope of any dimension).
     """
     if system.n != 2:
@@ -46,7 +46,7 @@ def polygon_posteriors(system, X0: ConvexSet, ys: np.ndarray) -> list[ConvexSet]
         if k == 0:
             prior: ConvexSet = P0
         else:
-            prior = minkowski_sum(linear_map(system.A(k - 1), posteriors[-1]), _noise_polygon(system, k - 1))
+            prior = minkowski_sum(linear_map(system.A_at(k - 1), posteriors[-1]), _noise_polygon(system, k - 1))
             u = system.nonzero_input(k - 1)
             if u is not None:
                 prior = translate(prior, u)
@@ -60,17 +60,17 @@ def polygon_posteriors(system, X0: ConvexSet, ys: np.ndarray) -> list[ConvexSet]
 def _noise_polygon(system, k: int) -> Polygon:
     image = noise_polygon(system, k)
     if image is None:
-        raise ValueError(f"form='polygon' needs B W with a polygon form (W a Box, Zonotope, VPolytope "
+        raise ValueError(f"form='polygon' needs E W with a polygon form (W a Box, Zonotope, VPolytope "
                          f"or Polygon); B({k}) W is a {type(system.process_noise_image(k)).__name__}")
     return image
 
 
 def noise_polygon(system, k: int, negated: bool = False) -> Polygon | None:
-    """B_k W (or B_k(−W)) as a Polygon with the rounding of the image charged (`_charged`), or None
+    """E_k W (or E_k(−W)) as a Polygon with the rounding of the image charged (`_charged`), or None
     when it has no polygon form. The smoother's step (`smoothers.linear`) adds it to polygon
     posteriors: the set algebra's image alone is computed in floating point, uncharged."""
     image = as_polygon(system.process_noise_image(k, negated=negated))
-    return None if image is None else _charged(image, system.B(k), system.W)
+    return None if image is None else _charged(image, system.E_at(k), system.W)
 
 
 def _charged(P: Polygon, M, S) -> Polygon:
@@ -91,10 +91,10 @@ def _charged(P: Polygon, M, S) -> Polygon:
 
 
 def _measurement_cut(system, k: int, prior: Polygon, y: np.ndarray) -> ConvexSet:
-    """{x ∈ prior : C_k x ∈ y_k + D_k(−V)} with y_k + D_k(−V) ⊆ {z : N z ≤ h + N y_k}, the offset
+    """{x ∈ prior : C_k x ∈ y_k + F_k(−V)} with y_k + F_k(−V) ⊆ {z : N z ≤ h + N y_k}, the offset
     rounded up by its error bound (≤ (m + 2)u(|N||y| + |h|))."""
     Y = system.measurement_noise_image(k)
-    D = system.D(k)
+    D = system.F_at(k)
     D = D.toarray() if hasattr(D, "toarray") else np.asarray(D)
     identity_D = D.shape[0] == D.shape[1] and np.array_equal(D, np.eye(len(D)))
     if isinstance(system.V, (Box, HPolytope)) and identity_D:
@@ -111,4 +111,4 @@ def _measurement_cut(system, k: int, prior: Polygon, y: np.ndarray) -> ConvexSet
     shift = N @ y
     err = (N.shape[1] + 2) * U * (np.abs(N) @ np.abs(y) + np.abs(h)) + TINY
     offsets = np.nextafter(h + shift + err, np.inf)
-    return prior.cut_preimage(system.C(k), N, offsets)
+    return prior.cut_preimage(system.C_at(k), N, offsets)

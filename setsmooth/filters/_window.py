@@ -52,7 +52,7 @@ class Window:
     def __init__(self, system, delta_bar: int, M: np.ndarray):
         self.system = system
         self.delta_bar = d = int(delta_bar)
-        A, B, C, D = (np.asarray(f(0), dtype=float) for f in (system.A, system.B, system.C, system.D))
+        A, B, C, D = (np.asarray(f(0), dtype=float) for f in (system.A_at, system.E_at, system.C_at, system.F_at))
         # A noise set converted with rounding charges (a box whose midpoint is not representable)
         # has them written as generators, so the window's noise blocks are exact copies.
         Wz, Vz = (S.to_constrained_zonotope() for S in (system.W, system.V))

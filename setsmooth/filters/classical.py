@@ -1,7 +1,7 @@
 """The classical linear set-membership filter (stability paper Algorithm 1), as set algebra.
 
-    prior_k     = A_{k-1} posterior_{k-1} ⊕ B_{k-1} W ⊕ {u_{k-1}}          stability (3)
-    posterior_k = { x ∈ prior_k : C_k x ∈ y_k ⊕ D_k(−V) }                   stability (4)
+    prior_k     = A_{k-1} posterior_{k-1} ⊕ E_{k-1} W ⊕ {B_{k-1} u_{k-1}}   stability (3)
+    posterior_k = { x ∈ prior_k : C_k x ∈ y_k ⊕ F_k(−V) }                   stability (4)
 
 Under unrelated noises this is the optimal SMF (rethinking paper Corollary 1; smoothing paper Lemma 3).
 With constrained-zonotope inputs the set algebra produces exactly the CZs of stability (20)–(21); with
@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_measurements, as_vector, check_system
+from .._validation import as_vector, check_system, measured
 from ..trajectories.nominal import RecursionDeviations, about_nominal
 from ..results import SetEstimates
 from ..sets.algebra import generalized_intersection, linear_map, minkowski_sum, translate
@@ -103,14 +103,15 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
         When ``system`` is not a setsmooth system: a `control.StateSpace` is led to
         `LinearSystem.from_statespace`, which adds the noise ranges.
     """
-    ys = as_measurements(ys, check_system(system).m)
+    given, as_given = system, ys   # the inconsistency is reported in the user's terms (y_k with D u_k)
+    system, ys = measured(system, ys)
     _check_state_set(X0, "X0", system.n)
     if on_inconsistent not in ON_INCONSISTENT:
         raise ValueError(f"on_inconsistent must be one of {ON_INCONSISTENT}, got {on_inconsistent!r}")
     result = _filtered(system, X0, ys, reduce, detect_empty, form)
     if detect_empty and on_inconsistent != "ignore" and len(result) \
             and isinstance(result[-1], EmptySet):  # (empty from the first empty one on)
-        report_inconsistency(first_inconsistency(system, X0, ys, result), on_inconsistent)
+        report_inconsistency(first_inconsistency(given, X0, as_given, result), on_inconsistent)
     return result
 
 
@@ -219,7 +220,7 @@ def _first_empty(posteriors: list[ConvexSet]) -> int:
 
 
 def predict(system, k: int, posterior: ConvexSet) -> ConvexSet:
-    """⟦x_{k+1} | y_{0:k}⟧ = A_k ⟦x_k | y_{0:k}⟧ ⊕ B_k W ⊕ {u_k} (stability (3), CZ form (20)).
+    """⟦x_{k+1} | y_{0:k}⟧ = A_k ⟦x_k | y_{0:k}⟧ ⊕ E_k W ⊕ {B_k u_k} (stability (3), CZ form (20)).
 
     Parameters
     ----------
@@ -232,8 +233,8 @@ def predict(system, k: int, posterior: ConvexSet) -> ConvexSet:
     Returns
     -------
     ConvexSet
-        The prior ⟦x_{k+1} | y_{0:k}⟧; B_k W is the system's cached image when B is constant, and a
-        zero u_k adds no translation.
+        The prior ⟦x_{k+1} | y_{0:k}⟧; E_k W is the system's cached image when E is constant, and a
+        zero B_k u_k adds no translation.
 
     Raises
     ------
@@ -245,7 +246,7 @@ def predict(system, k: int, posterior: ConvexSet) -> ConvexSet:
 
 
 def update(system, k: int, prior: ConvexSet, y: Any) -> ConvexSet:
-    """⟦x_k | y_{0:k}⟧ = prior ∩_{C_k} (y_k ⊕ D_k(−V)) (stability (4), CZ form (21)).
+    """⟦x_k | y_{0:k}⟧ = prior ∩_{C_k} (y_k − D_k u_k ⊕ F_k(−V)) (stability (4), CZ form (21)).
 
     Parameters
     ----------
@@ -255,12 +256,12 @@ def update(system, k: int, prior: ConvexSet, y: Any) -> ConvexSet:
     prior : ConvexSet
         ⟦x_k | y_{0:k−1}⟧, of dimension n.
     y : array_like, shape (m,)
-        The measurement y_k.
+        The measurement y_k (as measured: the feedthrough D_k u_k is subtracted here).
 
     Returns
     -------
     ConvexSet
-        The posterior; D_k(−V) is the system's cached image when D is constant.
+        The posterior; F_k(−V) is the system's cached image when F is constant.
 
     Raises
     ------
@@ -268,20 +269,21 @@ def update(system, k: int, prior: ConvexSet, y: Any) -> ConvexSet:
         When ``prior`` is not a set of dimension n, or ``y`` is not a finite real vector of length m.
     """
     _check_state_set(prior, "prior", check_system(system).n)
-    return _update(system, k, prior, as_vector(y, "y", system.m))
+    y = as_vector(y, "y", system.m)
+    return _update(system, k, prior, y - system.feedthrough_term(k) if system.has_feedthrough else y)
 
 
 # The loop's steps trust their operands: the matrices were validated by the LinearSystem (a callable's
 # value at each call), the sets and measurements by the public door above, so they go straight to the
 # set algebra instead of through the operators, which would validate every matrix again every step.
 def _predict(system, k: int, posterior: ConvexSet) -> ConvexSet:
-    prior = minkowski_sum(linear_map(system.A(k), posterior), system.process_noise_image(k))
+    prior = minkowski_sum(linear_map(system.A_at(k), posterior), system.process_noise_image(k))
     u = system.nonzero_input(k)
     return prior if u is None else translate(prior, u)
 
 
 def _update(system, k: int, prior: ConvexSet, y: np.ndarray) -> ConvexSet:
-    return generalized_intersection(prior, system.C(k), translate(system.measurement_noise_image(k), y))
+    return generalized_intersection(prior, system.C_at(k), translate(system.measurement_noise_image(k), y))
 
 
 def _check_state_set(S: Any, name: str, n: int) -> None:

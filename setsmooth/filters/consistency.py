@@ -5,7 +5,7 @@ with every noise in its set, explains y_0, …, y_k; emptiness is monotone in k.
 where the data invalidate the model (a sensor fault, a wrong noise bound, a wrong matrix): the
 measurement y_k lies outside the output set predicted from the data before it,
 
-    O_k = C_k P_k + D_k V,    P_k = A_{k−1} ⟦x_{k−1} | y_{0:k−1}⟧ + B_{k−1} W (+ u_{k−1}),  P_0 = X0,
+    O_k = C_k P_k + F_k V,    P_k = A_{k−1} ⟦x_{k−1} | y_{0:k−1}⟧ + E_{k−1} W (+ B_{k−1} u_{k−1}),  P_0 = X0,
 
 (P_k the prediction (3) of the stability paper's Algorithm 1; the update (4) intersects it with the
 states whose output can be y_k, empty exactly when y_k ∉ O_k),
@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_measurements, check_system
+from .._validation import measured
 from ..results import SetEstimates
 from ..sets.algebra import linear_map, minkowski_sum
 from ..sets.base import ConvexSet
@@ -91,8 +91,8 @@ class Inconsistency:
 
 
 def _predicted_outputs(system, k: int, prior: ConvexSet) -> ConvexSet:
-    """C_k P + D_k V: the outputs the model allows at step k for states in ``prior``."""
-    return minkowski_sum(linear_map(system.C(k), prior),
+    """C_k P + F_k V: the outputs the model allows at step k for states in ``prior`` (y − D_k u_k)."""
+    return minkowski_sum(linear_map(system.C_at(k), prior),
                          linear_map(-np.eye(system.m), system.measurement_noise_image(k)))
 
 
@@ -128,7 +128,8 @@ def first_inconsistency(system, X0: ConvexSet, ys: Any,
     """
     from .classical import _predict, classical_filter
 
-    ys = as_measurements(ys, check_system(system).m)
+    given = system
+    system, ys = measured(system, ys)
     if estimates is None:
         estimates = classical_filter(system, X0, ys, on_inconsistent="ignore")
     elif len(estimates) != len(ys):
@@ -142,6 +143,8 @@ def first_inconsistency(system, X0: ConvexSet, ys: Any,
     closest = _predicted_outputs(system, k, prior).center(method="closest", reference=y,
                                                            norm=np.inf)
     distance = float(np.abs(closest - y).max()) if np.all(np.isfinite(closest)) else np.inf
+    if system is not given:  # the measurement as given, with its feedthrough D_k u_k
+        y = y + given.feedthrough_term(k)
     return Inconsistency(k, y, distance)
 
 

@@ -1,9 +1,9 @@
 """Kalman filter and Rauch–Tung–Striebel smoother: the stochastic baseline of smoothing paper §IV-C.
 
-For the linear time-varying model of smoothing paper (13)–(14),
+For the linear time-varying model of smoothing paper (13)–(14), with a known input,
 
-    x_{k+1} = A_k x_k + B_k w_k + u_k,      w_k ~ N(0, Q)   (p-dimensional),
-    y_k     = C_k x_k + D_k v_k,            v_k ~ N(0, R)   (q-dimensional),
+    x_{k+1} = A_k x_k + B_k u_k + E_k w_k,      w_k ~ N(0, Q)   (p-dimensional),
+    y_k     = C_k x_k + D_k u_k + F_k v_k,      v_k ~ N(0, R)   (q-dimensional),
 
 with x_0 ~ N(x0_mean, P0). The set-membership model gives no noise statistics, so Q and R are tuning
 parameters; the paper uses Q = q, R = r·I (32). Measurement y_0 is taken at k = 0: step 0 updates the
@@ -48,9 +48,11 @@ def kalman_filter(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) -
     Parameters
     ----------
     system : object
-        Provides ``n`` (state dimension) and methods ``A(k)`` (n×n), ``B(k)`` (n×p), ``C(k)`` (m×n),
-        ``D(k)`` (m×q) and ``input_term(k)`` (the known term u_k added to x_{k+1}, length n), as
-        `setsmooth.models.systems.LinearSystem` does.
+        Provides ``n`` (state dimension) and methods ``A_at(k)`` (n×n), ``E_at(k)`` (n×p, the
+        process-noise matrix), ``C_at(k)`` (m×n), ``F_at(k)`` (m×q, the measurement-noise matrix)
+        and ``input_term(k)`` (the known term B_k u_k of x_{k+1}, length n), as
+        `setsmooth.models.systems.LinearSystem` does (whose feedthrough D_k u_k is subtracted from
+        the measurements first).
     ys : array_like, shape (T+1, m)
         Measurements y_0..y_T (a 1-D array is accepted when m = 1).
     x0_mean : array_like, shape (n,)
@@ -72,7 +74,7 @@ def kalman_filter(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) -
     ------
     ValueError
         When shapes disagree, a covariance is not symmetric positive semidefinite, or an innovation
-        covariance C_k P C_kᵀ + D_k R D_kᵀ is singular.
+        covariance C_k P C_kᵀ + F_k R F_kᵀ is singular.
     TypeError
         When ``system`` lacks the required interface.
 
@@ -80,10 +82,10 @@ def kalman_filter(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) -
     ----------
     Smoothing paper §IV-C (RTS baseline, [6], [22]); R. E. Kalman (1960).
     """
-    n, ys, m0, P = _validate(system, ys, x0_mean, P0)
+    system, n, ys, m0, P = _validate(system, ys, x0_mean, P0)
     # Validated once here; the loop below trusts them (system matrices are validated by the system).
-    Q = _noise_covariance(Q, "Q", _mat(system.B(0), "B(0)", n, None).shape[1])
-    R = _noise_covariance(R, "R", _mat(system.D(0), "D(0)", ys.shape[1], None).shape[1])
+    Q = _noise_covariance(Q, "Q", _mat(system.E_at(0), "E(0)", n, None).shape[1])
+    R = _noise_covariance(R, "R", _mat(system.F_at(0), "F(0)", ys.shape[1], None).shape[1])
     steps = ys.shape[0]
     means = np.empty((steps, n))
     covs = np.empty((steps, n, n))
@@ -131,7 +133,7 @@ def rts_smoother(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) ->
     means = filt.means.copy()
     covs = filt.covariances.copy()
     for k in range(means.shape[0] - 2, -1, -1):
-        A = np.asarray(system.A(k))
+        A = np.asarray(system.A_at(k))
         P_pred = filt.predicted_covariances[k + 1]
         # Gᵀ = P_pred⁻¹ A P_filt since both covariances are symmetric.
         G = _solve_psd(P_pred, A @ filt.covariances[k]).T
@@ -142,24 +144,24 @@ def rts_smoother(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) ->
 
 def _predict(system: Any, k: int, mean: np.ndarray, P: np.ndarray, Q: np.ndarray,
              n: int) -> tuple[np.ndarray, np.ndarray]:
-    A, B = np.asarray(system.A(k)), np.asarray(system.B(k))
-    return A @ mean + system.input_term(k), _symmetrize(A @ P @ A.T + B @ Q @ B.T)
+    A, E = np.asarray(system.A_at(k)), np.asarray(system.E_at(k))
+    return A @ mean + system.input_term(k), _symmetrize(A @ P @ A.T + E @ Q @ E.T)
 
 
 def _update(system: Any, k: int, mean: np.ndarray, P: np.ndarray, y: np.ndarray, R: np.ndarray,
             n: int) -> tuple[np.ndarray, np.ndarray]:
-    C, D = np.asarray(system.C(k)), np.asarray(system.D(k))
-    DRD = D @ R @ D.T
-    S = _symmetrize(C @ P @ C.T + DRD)
+    C, F = np.asarray(system.C_at(k)), np.asarray(system.F_at(k))
+    FRF = F @ R @ F.T
+    S = _symmetrize(C @ P @ C.T + FRF)
     try:
         # numpy's solve: scipy's argument checks cost more than the solve for these small matrices
         K = np.linalg.solve(S, C @ P).T
     except np.linalg.LinAlgError as exc:
-        raise ValueError(f"innovation covariance C P Cᵀ + D R Dᵀ at k = {k} is singular; "
+        raise ValueError(f"innovation covariance C P Cᵀ + F R Fᵀ at k = {k} is singular; "
                          "make R (or P0) positive definite") from exc
     # Joseph form: stays symmetric PSD under rounding, unlike P − K S Kᵀ.
     I_KC = np.eye(n) - K @ C
-    P_post = _symmetrize(I_KC @ P @ I_KC.T + K @ DRD @ K.T)
+    P_post = _symmetrize(I_KC @ P @ I_KC.T + K @ FRF @ K.T)
     return mean + K @ (y - C @ mean), P_post
 
 
@@ -173,16 +175,19 @@ def _solve_psd(P: np.ndarray, rhs: np.ndarray) -> np.ndarray:
         return np.linalg.lstsq(P, rhs, rcond=None)[0]
 
 
-def _validate(system: Any, ys: Any, x0_mean: Any, P0: Any) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
-    for attr in ("A", "B", "C", "D", "input_term"):
+def _validate(system: Any, ys: Any, x0_mean: Any,
+              P0: Any) -> tuple[Any, int, np.ndarray, np.ndarray, np.ndarray]:
+    for attr in ("A_at", "E_at", "C_at", "F_at", "input_term"):
         if not callable(getattr(system, attr, None)):
             raise TypeError(f"system must provide a method {attr}(k); got {type(system).__name__}")
     n = check_dim(getattr(system, "n", None), "system.n")
-    m = _mat(system.C(0), "C(0)", None, n).shape[0]
+    m = _mat(system.C_at(0), "C(0)", None, n).shape[0]
     arr = as_measurements(ys, m)
+    if getattr(system, "has_feedthrough", False):
+        system, arr = system.without_feedthrough(arr)
     mean = as_vector(x0_mean, "x0_mean", n)
     P = _covariance(P0, "P0", n)
-    return n, arr, mean, P
+    return system, n, arr, mean, P
 
 
 def _noise_covariance(value: Any, name: str, dim: int) -> np.ndarray:

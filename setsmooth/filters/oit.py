@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_measurements, check_system
+from .._validation import measured
 from ..results import SetEstimates, Tubes
 from ..sets.algebra import cartesian_product, linear_map
 from ..sets.box import Box
@@ -159,8 +159,7 @@ def oit_inspired_filter(system, X0: ConvexSet, ys: Any, *, delta: int | None = N
         If ``delta`` < k_* or the system is time varying; `ModelInvalidatedError` (a ValueError) for
         inconsistent data with ``on_inconsistent='raise'``.
     """
-    check_system(system)
-    ys = as_measurements(ys, system.m)
+    system, ys = measured(system, ys)
     _check_state_set(X0, "X0", system.n)
     check_on_inconsistent(on_inconsistent)
     st = _structure(system, decomposition)
@@ -251,17 +250,16 @@ def oit_cz_filter(system, X0: ConvexSet, ys: Any, *, delta_bar: int | None = Non
     --------
     >>> import numpy as np, setsmooth as ss
     >>> box = ss.Box([-1.0], [1.0])
-    >>> system = ss.LinearSystem([[1.0, 1.0], [0.0, 1.0]], [[0.5], [1.0]], [[1.0, 0.0]], [[1.0]],
+    >>> system = ss.LinearSystem([[1.0, 1.0], [0.0, 1.0]], None, [[1.0, 0.0]], E=[[0.5], [1.0]],
     ...                          W=box, V=box)
     >>> xs, ys = ss.simulate(system, ss.Box([1, 1], [3, 3]), 8, np.random.default_rng(0))
     >>> res = ss.oit_cz_filter(system, ss.Box([-1, -1], [1, 1]), ys, delta_bar=2)
     >>> len(res.estimates), all(Z.contains(x) for Z, x in zip(res.estimates[2:], xs[2:]))
     (9, True)
     """
-    check_system(system)
     from .oit_cz import run_oit_cz
 
-    ys = as_measurements(ys, system.m)
+    system, ys = measured(system, ys)
     _check_state_set(X0, "X0", system.n)
     check_on_inconsistent(on_inconsistent)
     for name, S in (("X0", X0), ("system.W", system.W), ("system.V", system.V)):
@@ -288,9 +286,9 @@ def oit_cz_filter(system, X0: ConvexSet, ys: Any, *, delta_bar: int | None = Non
 
 # -- shared pieces -------------------------------------------------------------------------------------
 def _structure(system, decomposition) -> Structure:
-    if not all(M.is_constant for M in (system.A, system.B, system.C, system.D)):
-        raise ValueError("the OIT filters need a time-invariant system (constant A, B, C, D)")
-    return structure(system.A(0), system.C(0), decomposition)
+    if set(system.time_varying) & {"A", "C", "E", "F"}:
+        raise ValueError("the OIT filters need a time-invariant system (constant A, C, E, F)")
+    return structure(system.A_at(0), system.C_at(0), decomposition)
 
 
 def _check_int(value: Any, name: str, lowest: int) -> int:

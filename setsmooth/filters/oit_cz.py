@@ -96,7 +96,7 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
     cond = float(np.linalg.norm(U, 2) * max(1.0, np.linalg.norm(Po, 2)))
     pad_unit = 64.0 * n * np.finfo(float).eps * cond
     first, later = _kept(system, st, d, "detectable", lambda: _detectable_parts(system, st, d, eye2))
-    BW = linear_map(system.B(0), system.W)
+    BW = linear_map(system.E_at(0), system.W)
     win_c, win_r = _hull(linear_map(st.P_obar, BW), _pm(np.eye(n_obar)))  # IH(B̃_ō W)
     Aobar_power = np.eye(n_obar)
     ell_prev, c_obar, d_delta = 0.0, None, None

@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from .._validation import as_measurements, check_system
+from .._validation import check_system, measured
 from ..models.related_noise import JointRange
 from ..results import SetEstimates
 from ..sets import rounding
@@ -81,13 +81,13 @@ def joint_trajectory_set(system, joint_range: JointRange, ys: Any, stop: int | N
     --------
     >>> import setsmooth as ss
     >>> box = ss.Box([-1.0], [1.0])
-    >>> system = ss.LinearSystem([[1.0]], [[1.0]], [[1.0]], [[1.0]], W=box, V=box)
+    >>> system = ss.LinearSystem([[1.0]], None, [[1.0]], W=box, V=box)
     >>> J = ss.JointRange.identical_process_noise(ss.Box([-5.0], [5.0]), box, box, T=2)
     >>> Z = ss.joint_trajectory_set(system, J, [[0.0], [0.0], [0.0]])
     >>> Z.dim, round(Z.support([0.0, 0.0, 1.0]), 6)   # (x_0, x_1, x_2); x_2 ≤ y_2 + 1
     (3, 1.0)
     """
-    check_system(system)
+    system, ys = measured(system, ys)
     ys, stop = _check(system, joint_range, ys, stop)
     cz = joint_range.set._flat_cz
     if cz is None:
@@ -135,8 +135,7 @@ def optimal_filter(system, joint_range: JointRange, ys: Any, *, detect_empty: bo
     >>> round(optimal[4].area(), 3), round(classical[4].area(), 3)     # Theorem 3: optimal ⊆ classical
     (4.215, 5.375)
     """
-    check_system(system)
-    ys = as_measurements(ys, system.m)
+    system, ys = measured(system, ys)
     _check(system, joint_range, ys, None)
     n = system.n
     posteriors = []
@@ -213,9 +212,10 @@ def augment_identical_process_noise(system, X0: ConvexSet) -> tuple[LinearSystem
     if not isinstance(X0, ConvexSet) or X0.dim != system.n:
         raise ValueError(f"X0 must be a ConvexSet of dimension n = {system.n}")
     n, p = system.n, system.p
-    A = np.block([[system.A(0), system.B(0)], [np.zeros((p, n)), np.eye(p)]])
-    C = np.hstack([system.C(0), np.zeros((system.m, p))])
-    augmented = LinearSystem(A, np.zeros((n + p, 1)), C, system.D(0), W=Box([0.0], [0.0]), V=system.V)
+    A = np.block([[system.A_at(0), system.E_at(0)], [np.zeros((p, n)), np.eye(p)]])
+    C = np.hstack([system.C_at(0), np.zeros((system.m, p))])
+    augmented = LinearSystem(A, None, C, E=np.zeros((n + p, 1)), F=system.F_at(0), W=Box([0.0], [0.0]),
+                             V=system.V)
     return augmented, cartesian_product(X0, system.W)
 
 
@@ -225,7 +225,6 @@ def _check(system, joint_range: JointRange, ys: Any, stop: int | None) -> tuple[
     if (joint_range.n, joint_range.p, joint_range.q) != (system.n, system.p, system.q):
         raise ValueError(f"joint_range has (n, p, q) = {(joint_range.n, joint_range.p, joint_range.q)} but "
                          f"the system has {(system.n, system.p, system.q)}")
-    ys = as_measurements(ys, system.m)
     last = min(joint_range.T, ys.shape[0] - 1)
     if ys.shape[0] - 1 > joint_range.T:
         raise ValueError(f"ys has {ys.shape[0]} rows (T = {ys.shape[0] - 1}) but joint_range covers only "
@@ -254,11 +253,11 @@ def _rows(system, joint_range: JointRange, ys: np.ndarray, stop: int):
     blocks.append(state(0) - select(shift + i for i in joint_range.x0_dims()))
     rhs.append(np.zeros(n))
     for l in range(stop):
-        blocks.append(state(l + 1) - system.A(l) @ state(l)
-                      - system.B(l) @ select(shift + i for i in joint_range.w_dims(l)))
+        blocks.append(state(l + 1) - system.A_at(l) @ state(l)
+                      - system.E_at(l) @ select(shift + i for i in joint_range.w_dims(l)))
         rhs.append(system.input_term(l))
     for l in range(stop + 1):
-        blocks.append(system.C(l) @ state(l) + system.D(l) @ select(shift + i for i in joint_range.v_dims(l)))
+        blocks.append(system.C_at(l) @ state(l) + system.F_at(l) @ select(shift + i for i in joint_range.v_dims(l)))
         rhs.append(ys[l])
     return sp.vstack(blocks).tocsr(), np.concatenate(rhs)
 
@@ -281,7 +280,7 @@ def _assemble(system, joint_range: JointRange, cz: ConstrainedZonotope, ys: np.n
     nominal = np.empty((stop + 1, n))
     nominal[0] = c_J[list(joint_range.x0_dims())]
     for l in range(stop):
-        nominal[l + 1] = (system.A(l) @ nominal[l] + system.B(l) @ c_J[list(joint_range.w_dims(l))]
+        nominal[l + 1] = (system.A_at(l) @ nominal[l] + system.E_at(l) @ c_J[list(joint_range.w_dims(l))]
                           + system.input_term(l))
 
     def state(l: int) -> sp.csr_matrix:
@@ -310,7 +309,7 @@ def _assemble(system, joint_range: JointRange, cz: ConstrainedZonotope, ys: np.n
     rows_eta.append(-factors(joint_range.x0_dims()))
     rhs.append(np.zeros(n))
     for l in range(stop):
-        A_l, B_l, w = system.A(l), system.B(l), list(joint_range.w_dims(l))
+        A_l, B_l, w = system.A_at(l), system.E_at(l), list(joint_range.w_dims(l))
         rows_s.append(state(l + 1) - sp.csr_matrix(A_l) @ state(l))
         rows_eta.append(-sp.csr_matrix(B_l) @ factors(w))
         rhs.append(np.zeros(n))
@@ -321,7 +320,7 @@ def _assemble(system, joint_range: JointRange, cz: ConstrainedZonotope, ys: np.n
         slack.append(rounding.add(nominal_error, bounded))
         slack_free.append(free)
     for l in range(stop + 1):
-        C_l, D_l, v = system.C(l), system.D(l), list(joint_range.v_dims(l))
+        C_l, D_l, v = system.C_at(l), system.F_at(l), list(joint_range.v_dims(l))
         rows_s.append(sp.csr_matrix(C_l) @ state(l))
         rows_eta.append(sp.csr_matrix(D_l) @ factors(v))
         rhs.append(ys[l] - D_l @ c_J[v] - C_l @ nominal[l])

@@ -1,7 +1,8 @@
-"""A `LinearSystem` from a python-control `StateSpace`: inputs split into known inputs and noises.
+"""A `LinearSystem` from a python-control `StateSpace`: its inputs split into known inputs and noises.
 
 The work behind `LinearSystem.from_statespace` (whose docstring states the modes and their
-assumptions): validate the model and the index split, sample it, and multiply out the known input.
+assumptions): validate the model and the index split into known inputs (python-control's B and D)
+and noise inputs (E), and sample a continuous model soundly.
 """
 
 from __future__ import annotations
@@ -17,8 +18,8 @@ from ..sets.base import ConvexSet
 _METHODS = ("zoh", "bounded")
 
 
-def linear_system_from_statespace(cls, statespace, W: ConvexSet, V: ConvexSet, *, noise_inputs: Any,
-                                  inputs: Any, Psi: Any, dt: Any, method: str | None,
+def linear_system_from_statespace(cls, statespace, *, W: ConvexSet, V: ConvexSet, E: Any, F: Any,
+                                  u: Any, noise_inputs: Any, dt: Any, method: str | None,
                                   partition: int):
     """The implementation of `LinearSystem.from_statespace` (see there)."""
     import control
@@ -28,19 +29,37 @@ def linear_system_from_statespace(cls, statespace, W: ConvexSet, V: ConvexSet, *
     for name, S in (("W", W), ("V", V)):
         if not isinstance(S, ConvexSet):
             raise TypeError(f"{name} must be a ConvexSet, got {type(S).__name__}")
-    A, B, C, F = (np.asarray(M, dtype=float) for M in
+    A, B, C, D = (np.asarray(M, dtype=float) for M in
                   (statespace.A, statespace.B, statespace.C, statespace.D))
+    n = A.shape[0]
     noise, known = _split_inputs(noise_inputs, B.shape[1])
-    if W.dim != len(noise):
-        raise ValueError(f"W must have one coordinate per noise input: noise_inputs selects "
-                         f"{len(noise)} of the statespace's {B.shape[1]} inputs, W.dim = {W.dim}")
-    _check_feedthrough(F, noise, known)
-    if known.size and inputs is None:
-        raise ValueError(f"the statespace's inputs {known.tolist()} are not noise inputs, so they are "
-                         f"known inputs: pass their samples as inputs=, shape (T, {known.size})")
-    if not known.size and inputs is not None:
-        raise ValueError("inputs= was given but every statespace input is a noise input; select the "
-                         "noise inputs with noise_inputs=")
+    if known.size and u is None:
+        raise ValueError(f"the statespace's inputs {known.tolist()} are known inputs (its B and D act "
+                         f"on them, as in python-control): pass their samples as u=, shape "
+                         f"(T, {known.size}), time first; or select the noise inputs with noise_inputs=")
+    if not known.size and u is not None:
+        raise ValueError("u= was given but every statespace input is a noise input (noise_inputs=), "
+                         "or the statespace has no input")
+    if noise.size:
+        if E is not None:
+            raise ValueError("E= and noise_inputs= both give the process-noise matrix: noise_inputs "
+                             "selects it from the statespace's B; pass one of them")
+        E_c = B[:, noise]
+        if W.dim != len(noise):
+            raise ValueError(f"W must have one coordinate per noise input: noise_inputs selects "
+                             f"{len(noise)} of the statespace's {B.shape[1]} inputs, W.dim = {W.dim}")
+    elif E is None:
+        if W.dim != n:
+            raise ValueError(f"E=None means E = I, which needs W.dim = n = {n}, got W.dim = {W.dim}: "
+                             f"give the process-noise matrix E= ({n} × {W.dim}), or select noise "
+                             "inputs of the statespace with noise_inputs=")
+        E_c = np.eye(n)
+    else:
+        E_c = as_matrix(E, "E", n, W.dim)
+    if np.any(D[:, noise] != 0):
+        raise ValueError("statespace must have zero feedthrough D from the noise inputs: a noise "
+                         "reaching y directly would couple w and v, which the model treats as "
+                         "unrelated")
 
     if statespace.isctime():
         if method is None:
@@ -52,32 +71,31 @@ def linear_system_from_statespace(cls, statespace, W: ConvexSet, V: ConvexSet, *
                              "noise stays in W at every instant, so 'bounded' encloses it")
         if dt is None:
             raise ValueError("dt must be a positive sampling time to discretize a continuous model, "
-                         "got None")
+                             "got None")
         sample_time = _positive_time(dt, "dt")
-        Phi, Gamma = zoh_matrices(A, B, sample_time)
-        Gamma_u = Gamma[:, known]
+        Phi, Gamma = zoh_matrices(A, np.hstack([B[:, known], E_c]), sample_time)
+        B_d = Gamma[:, :known.size]
         if method == "zoh":
-            B_d, W_d = Gamma[:, noise], W
+            E_d, W_d = Gamma[:, known.size:], W
         else:
-            Phi, W_d = bounded_noise_set(A, B[:, noise], W, sample_time, partition=partition)
-            B_d = np.eye(A.shape[0])
+            Phi, W_d = bounded_noise_set(A, E_c, W, sample_time, partition=partition)
+            E_d = np.eye(n)
     else:
         if method is not None:
             raise ValueError(f"method={method!r} applies to continuous models; statespace is already "
                              f"discrete (dt = {statespace.dt}), its noise a sequence w_k ∈ W")
         sample_time = _discrete_sample_time(statespace.dt, dt)
-        Phi, B_d, Gamma_u, W_d = A, B[:, noise], B[:, known], W
+        Phi, B_d, E_d, W_d = A, B[:, known], E_c, W
 
-    m = C.shape[0]
-    Psi = np.eye(m) if Psi is None else as_matrix(Psi, "Psi", m, None)
-    u_term = None if not known.size else _input_term(Gamma_u, inputs)
-    return cls(Phi, B_d, C, Psi, W_d, V, u=u_term, dt=sample_time)
+    if not known.size:
+        return cls(Phi, None, C, E=E_d, F=F, W=W_d, V=V, dt=sample_time)
+    return cls(Phi, B_d, C, D[:, known], E=E_d, F=F, W=W_d, V=V, u=u, dt=sample_time)
 
 
 def _split_inputs(noise_inputs: Any, n_inputs: int) -> tuple[np.ndarray, np.ndarray]:
     """Indices of the noise inputs and of the known inputs (the others), in the statespace's order."""
     if noise_inputs is None:
-        return np.arange(n_inputs), np.arange(0)
+        return np.arange(0), np.arange(n_inputs)
     idx = real_array(noise_inputs, "noise_inputs", "a sequence of input indices").reshape(-1)
     if idx.size == 0 or not np.all(idx == np.round(idx)) or idx.min() < 0 or idx.max() >= n_inputs:
         raise ValueError(f"noise_inputs must be a non-empty sequence of input indices in "
@@ -86,16 +104,6 @@ def _split_inputs(noise_inputs: Any, n_inputs: int) -> tuple[np.ndarray, np.ndar
     if len(set(idx.tolist())) != idx.size:
         raise ValueError(f"noise_inputs must not repeat an index, got {idx.tolist()}")
     return idx, np.setdiff1d(np.arange(n_inputs), idx)
-
-
-def _check_feedthrough(F: np.ndarray, noise: np.ndarray, known: np.ndarray) -> None:
-    if np.any(F[:, noise] != 0):
-        raise ValueError("statespace must have zero feedthrough D from the noise inputs: a noise "
-                         "reaching y directly would couple w and v, which the model treats as "
-                         "unrelated")
-    if np.any(F[:, known] != 0):
-        raise ValueError("statespace has a feedthrough D from the known inputs: subtract D u_k from "
-                         "the measurements and pass the model with that feedthrough set to zero")
 
 
 def _positive_time(value: Any, name: str) -> float:
@@ -114,32 +122,3 @@ def _discrete_sample_time(model_dt: Any, dt: Any) -> float | None:
         raise ValueError(f"dt = {dt!r} disagrees with the sampling time of the discrete statespace "
                          f"({model}); drop dt or resample the model")
     return model
-
-
-def _input_term(Gamma_u: np.ndarray, inputs: Any):
-    """u_k = Γ_u · inputs[k], the term `LinearSystem` adds to x_{k+1} (rows, or a callable of k)."""
-    if callable(inputs):
-        return _KnownInput(Gamma_u, inputs)
-    values = real_array(inputs, "inputs", f"an array of shape (T, {Gamma_u.shape[1]})")
-    if values.ndim == 1 and Gamma_u.shape[1] == 1:
-        values = values[:, None]
-    if values.ndim != 2 or values.shape[1] != Gamma_u.shape[1]:
-        raise ValueError(f"inputs must have shape (T, {Gamma_u.shape[1]}) (one column per known "
-                         f"input), got {np.shape(inputs)}")
-    bad = np.flatnonzero(~np.isfinite(values).all(axis=1))
-    if bad.size:
-        raise ValueError(f"inputs[{bad[0]}] = {values[bad[0]].tolist()} is not finite")
-    return values @ Gamma_u.T
-
-
-class _KnownInput:
-    """k -> Γ_u inputs(k): picklable whenever the user's callable is."""
-
-    def __init__(self, Gamma_u: np.ndarray, inputs):
-        self.Gamma_u, self.inputs = Gamma_u, inputs
-
-    def __call__(self, k: int) -> np.ndarray:
-        value = np.asarray(self.inputs(k), dtype=float).reshape(-1)
-        if value.shape != (self.Gamma_u.shape[1],):
-            raise ValueError(f"inputs({k}) must have {self.Gamma_u.shape[1]} entries, got {value.shape}")
-        return self.Gamma_u @ value

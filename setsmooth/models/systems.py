@@ -1,11 +1,12 @@
 """Dynamical systems with bounded noises, and their simulation.
 
-Linear systems follow the smoothing paper (13)–(14) (stability paper (1)–(2)):
+Linear systems in python-control's and CORA's names (`setsmooth.models.matrices`):
 
-    x_{k+1} = A_k x_k + B_k w_k + u_k,      w_k ∈ ⟦w⟧ = W,
-    y_k     = C_k x_k + D_k v_k,            v_k ∈ ⟦v⟧ = V,
+    x_{k+1} = A_k x_k + B_k u_k + E_k w_k,      w_k ∈ ⟦w⟧ = W,
+    y_k     = C_k x_k + D_k u_k + F_k v_k,      v_k ∈ ⟦v⟧ = V,
 
-with A_k = Φ_k, B_k = Γ_k, C_k = Ξ_k, D_k = Ψ_k, and an optional known input term u_k = B_u u_k.
+with u_k a known input; the smoothing paper (13)–(14) (stability paper (1)–(2)) has no known input
+and names Φ_k = A_k, Γ_k = E_k, Ξ_k = C_k, Ψ_k = F_k.
 """
 
 from __future__ import annotations
@@ -16,215 +17,166 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import (as_generator, as_matrix, as_vector, check_dim, check_system, real_array,
-                           real_number)
+from .._validation import as_generator, as_vector, check_dim, check_system, real_array, real_number
 from ..sets.algebra import linear_map
 from ..sets.base import ConvexSet
-
-MatrixSpec = Any  # an array, a sequence of arrays indexed by k, or a callable k -> array
-
-
-class _TimeVarying:
-    """A matrix that is constant, a sequence indexed by k, or a callable of k.
-
-    Constants and sequences are validated once, here. A callable is validated at every call (real,
-    finite, exactly the shape of its value at k = 0; never reshaped): cheap next to the set algebra
-    the value feeds, and the only way to name the step, ``A(2)``, at which a value goes bad. The
-    object holds nothing but the user's data, so it pickles whenever that data does (a module-level
-    callable, a `functools.partial` of one, arrays).
-    """
-
-    def __init__(self, spec: MatrixSpec, name: str, rows: int | None, cols: int | None):
-        self.name = name
-        self._const = self._seq = self._call = None
-        if callable(spec):
-            self.shape = as_matrix(spec(0), f"{name}(0)", rows, cols).shape
-            self._call = spec
-            self.label, self.kind = f"{name}(0)", "callable of k"
-        elif _is_sequence_of_matrices(spec):
-            seq = [_frozen(as_matrix(M, f"{name}[{k}]", rows, cols)) for k, M in enumerate(spec)]
-            for k, M in enumerate(seq):
-                if M.shape != seq[0].shape:
-                    raise ValueError(f"{name}[{k}] has shape {M.shape} but {name}[0] has shape "
-                                     f"{seq[0].shape}: every matrix of the sequence must have one shape")
-            self._seq = seq
-            self.shape = seq[0].shape
-            self.label, self.kind = f"{name}[0]", f"sequence of {len(seq)}"
-        else:
-            self._const = _frozen(as_matrix(spec, name, rows, cols))
-            self.shape = self._const.shape
-            self.label, self.kind = name, "constant"
-
-    def __call__(self, k: int) -> np.ndarray:
-        if self._const is not None:
-            return self._const
-        if self._seq is not None:
-            if not 0 <= k < len(self._seq):
-                raise IndexError(f"{self.name} is given for k in [0, {len(self._seq)}), asked for k = {k}")
-            return self._seq[k]
-        return as_matrix(self._call(k), f"{self.name}({k})", *self.shape)
-
-    @property
-    def is_constant(self) -> bool:
-        return self._const is not None
-
-
-def _frozen(arr: np.ndarray) -> np.ndarray:
-    """A read-only private copy: the system (and the noise images it caches) cannot change under us."""
-    arr = np.array(arr, dtype=float, copy=True)
-    arr.flags.writeable = False
-    return arr
-
-
-def _is_sequence_of_matrices(spec: Any) -> bool:
-    """A 3-D array, or a list/tuple whose first entry is 2-D (its entries are validated one by one)."""
-    if isinstance(spec, np.ndarray):
-        return spec.ndim == 3
-    if isinstance(spec, (list, tuple)) and len(spec) and not isinstance(spec[0], str):
-        try:
-            return np.ndim(spec[0]) == 2
-        except ValueError:  # a ragged first entry: as_matrix names it
-            return False
-    return False
-
-
-class _InputTerm:
-    """The known term u_k: an array of rows u[k] validated once, or a callable validated per call."""
-
-    def __init__(self, u: Any, n: int):
-        self.n = n
-        self._rows = self._call = None
-        if callable(u):
-            as_vector(u(0), "u(0)", n)
-            self._call = u
-            return
-        rows = real_array(u, "u", f"an array of shape (T, n={n})")
-        if rows.ndim != 2 or rows.shape[1] != n:
-            raise ValueError(f"u must have shape (T, n={n}) (the term added to x_(k+1)), got {rows.shape}")
-        bad = np.flatnonzero(~np.isfinite(rows).all(axis=1))
-        if bad.size:
-            as_vector(rows[bad[0]], f"u[{bad[0]}]", n)  # raises, naming the first bad row
-        self._rows = _frozen(rows)
-
-    def __call__(self, k: int) -> np.ndarray:
-        if self._rows is not None:
-            if not 0 <= k < len(self._rows):
-                raise IndexError(f"u is given for k in [0, {len(self._rows)}), asked for k = {k}")
-            return self._rows[k]
-        return as_vector(self._call(k), f"u({k})", self.n)
-
-
-def _check_state_dimension(A: _TimeVarying, B: MatrixSpec, C: MatrixSpec) -> None:
-    """Blame A when B and C, given as constant matrices, agree with each other on n and not with A.
-
-    Otherwise B's and C's own checks name them: n is read from A, so without this a wrong A (say a
-    callable of the wrong size) would be reported as a wrong B.
-    """
-    rows_B, cols_C = _constant_shape(B), _constant_shape(C)
-    if rows_B is None or cols_C is None:
-        return
-    n = rows_B[0]
-    if cols_C[1] == n != A.shape[0]:
-        raise ValueError(f"{A.label} has shape {A.shape}, but B has {n} rows and C has {n} columns: "
-                         f"A must be {n}×{n} (n = {n} states); check A")
-
-
-def _constant_shape(spec: MatrixSpec) -> tuple[int, ...] | None:
-    """The shape of a matrix given as a constant 2-D array, or None (callables, sequences, others)."""
-    if callable(spec) or _is_sequence_of_matrices(spec):
-        return None
-    try:
-        shape = np.shape(spec)
-    except ValueError:  # ragged: its own check names it
-        return None
-    return shape if len(shape) == 2 else None
-
-
-def _check_noise_columns(M: _TimeVarying, set_name: str, S: ConvexSet) -> None:
-    """Γ must have one column per coordinate of W (Ψ: of V); the message names both."""
-    if M.shape[1] != S.dim:
-        raise ValueError(f"{M.name} must have {set_name}.dim = {S.dim} columns (one per coordinate of the "
-                         f"noise), got shape {M.shape}; check {M.name} and {set_name}")
+from .matrices import MatrixSpec, TimeVarying, check_state_dimension, known_input, noise_matrix
 
 
 class LinearSystem:
-    """x_{k+1} = A_k x_k + B_k w_k + u_k,  y_k = C_k x_k + D_k v_k, with w_k ∈ W, v_k ∈ V.
+    """x_{k+1} = A_k x_k + B_k u_k + E_k w_k,  y_k = C_k x_k + D_k u_k + F_k v_k, w_k ∈ W, v_k ∈ V.
+
+    A, B, C, D mean what they mean in python-control (B the known-input matrix, D the
+    feedthrough); E and F are the noise matrices, named as in CORA's ``linearSysDT``. In the
+    smoothing paper (13)–(14) (stability paper (1)–(2)) they are Φ_k = A_k, Γ_k = E_k, Ξ_k = C_k,
+    Ψ_k = F_k, without the known input (``docs/migration.md`` maps the names).
+
+    Arrays over time are time-first throughout setsmooth: the input ``u`` has shape (T, n_u), the
+    measurements ``ys`` (T+1, m), the states ``xs`` (T+1, n), one row per step. python-control's
+    (signals × time) arrays are refused with a message saying so, never transposed by guessing.
 
     Parameters
     ----------
-    A, B, C, D : array_like, sequence of arrays, or callable k -> array
-        Φ_k (n×n), Γ_k (n×p), Ξ_k (m×n), Ψ_k (m×q) of smoothing paper (13)–(14). A sequence is indexed
-        by k; a callable is called with k, and its value is checked at every call (real, finite, the
-        shape of its value at k = 0).
-    W, V : ConvexSet
+    A : array_like, sequence of arrays, or callable k -> array
+        A_k (n×n). Every matrix may be constant, a sequence indexed by k, or a callable of k whose
+        value is checked at every call (real, finite, the shape of its value at k = 0).
+    B : array_like, sequence, callable, or None
+        B_k (n×n_u), the known-input matrix; None: no input enters the state. Requires ``u``.
+    C : array_like, sequence, or callable
+        C_k (m×n).
+    D : array_like, sequence, callable, or None
+        D_k (m×n_u), the feedthrough of the known input; None or 0: none. A nonzero D requires ``u``.
+    E : array_like, sequence, callable, or None, keyword-only
+        E_k (n×p), the process-noise matrix; None: the identity (then W.dim must be n).
+    F : array_like, sequence, callable, or None, keyword-only
+        F_k (m×q), the measurement-noise matrix; None: the identity (then V.dim must be m).
+    W, V : ConvexSet, keyword-only
         Ranges of the process noise (dim p) and the measurement noise (dim q).
-    u : array_like of shape (T, n), or callable k -> (n,), optional
-        Known input term added to x_{k+1} (B_u u_k already multiplied out). None means no input.
-    dt : float, optional
+    u : array_like of shape (T, n_u), or callable k -> (n_u,), optional, keyword-only
+        The known input u_0, u_1, ... (time first). It enters x_{k+1} through B and y_k through D,
+        so with a feedthrough it needs a row for every measurement. Requires B or D.
+    dt : float, optional, keyword-only
         Sampling time in seconds, when the steps sample a continuous-time plant (`from_statespace`
         sets it); kept for time axes, not used by the estimators. None: unspecified.
+
+    Attributes
+    ----------
+    A, B, C, D, E, F : ndarray
+        The matrices of a constant system, read-only (B is n×0 and D m×0 without input, E and F
+        the identity when not given). For a time-varying matrix reading the attribute raises,
+        naming the per-step accessor: `A_at` (k), `B_at`, `C_at`, `D_at`, `E_at`, `F_at`.
+    n, m, n_u, p, q : int
+        Dimensions of the state, the measurement, the known input, W and V.
 
     Raises
     ------
     TypeError
         When a matrix or input is complex or not numeric, or W/V is not a `ConvexSet`.
     ValueError
-        When dimensions of matrices and noise sets disagree, or a value is NaN or infinite; the
-        message names it as given (``A``, ``A[2]`` for a sequence, ``A(0)`` for a callable, ``u[3]``).
+        When B, or a nonzero D, is given without ``u`` (the message says that B is python-control's
+        known-input matrix and that the noise matrices go in ``E=`` and ``F=``), ``u`` without B or
+        D, ``u`` in python-control's (n_u, T) orientation; when E or F is None and W or V is not of
+        dimension n or m; when dimensions of matrices and noise sets disagree, or a value is NaN or
+        infinite; the message names it as given (``A``, ``A[2]`` for a sequence, ``A(0)`` for a
+        callable, ``u[3]``).
 
     Notes
     -----
     The system is picklable whenever its callables are (module-level functions or
     `functools.partial` objects, not lambdas), so it can be sent to a process pool.
 
+    The estimators subtract the feedthrough D_k u_k from the measurements once, at their door
+    (`without_feedthrough`); their results then record that system and those measurements.
+
     Examples
     --------
     >>> import numpy as np, setsmooth as ss
-    >>> sys = ss.LinearSystem(np.eye(2), np.eye(2), [[1.0, 0.0]], [[1.0]],
-    ...                       W=ss.Box([-1, -1], [1, 1]), V=ss.Box([-1], [1]))
-    >>> sys.n, sys.m
-    (2, 1)
+    >>> sys = ss.LinearSystem(np.eye(2), None, [[1.0, 0.0]], W=ss.Box([-1, -1], [1, 1]),
+    ...                       V=ss.Box([-1], [1]))
+    >>> sys.n, sys.m, sys.E.tolist()
+    (2, 1, [[1.0, 0.0], [0.0, 1.0]])
+    >>> sys = ss.LinearSystem(np.eye(2), [[0.0], [1.0]], [[1.0, 0.0]], 0, E=[[1.0], [0.5]],
+    ...                       W=ss.Box([-1], [1]), V=ss.Box([-1], [1]), u=np.ones((10, 1)))
+    >>> sys.n_u, sys.B_at(3).shape
+    (1, (2, 1))
     """
 
-    def __init__(self, A: MatrixSpec, B: MatrixSpec, C: MatrixSpec, D: MatrixSpec,
-                 W: ConvexSet, V: ConvexSet, u: Any = None, dt: float | None = None):
+    def __init__(self, A: MatrixSpec, B: MatrixSpec, C: MatrixSpec, D: MatrixSpec = None, *,
+                 E: MatrixSpec = None, F: MatrixSpec = None, W: ConvexSet, V: ConvexSet,
+                 u: Any = None, dt: float | None = None):
         for name, S in (("W", W), ("V", V)):
             if not isinstance(S, ConvexSet):
                 raise TypeError(f"{name} must be a ConvexSet, got {type(S).__name__}")
-        self.A = _TimeVarying(A, "A", None, None)
-        n = self.A.shape[0]
-        if self.A.shape != (n, n):
-            raise ValueError(f"{self.A.label} must be square, got shape {self.A.shape}")
-        _check_state_dimension(self.A, B, C)
-        self.B = _TimeVarying(B, "B", n, None)
-        _check_noise_columns(self.B, "W", W)
-        self.C = _TimeVarying(C, "C", None, n)
-        m = self.C.shape[0]
-        self.D = _TimeVarying(D, "D", m, None)
-        _check_noise_columns(self.D, "V", V)
+        self._A = TimeVarying(A, "A", None, None)
+        n = self._A.shape[0]
+        if self._A.shape != (n, n):
+            raise ValueError(f"{self._A.label} must be square, got shape {self._A.shape}")
+        check_state_dimension(self._A, E, C)
+        self._C = TimeVarying(C, "C", None, n)
+        m = self._C.shape[0]
+        self._B, self._D, self._u = known_input(B, D, u, n, m)  # first: Γ or Ψ given as B or D
+        self._E = noise_matrix(E, "E", "W", W, n)
+        self._F = noise_matrix(F, "F", "V", V, m)
         self.W, self.V = W, V
-        self.n, self.m, self.p, self.q = n, m, W.dim, V.dim
-        self._u = None if u is None else _InputTerm(u, n)
+        self.n, self.m, self.n_u, self.p, self.q = n, m, self._B.shape[1], W.dim, V.dim
         self.dt = None if dt is None else real_number(dt, "dt")
         if self.dt is not None and not (np.isfinite(self.dt) and self.dt > 0):
             raise ValueError(f"dt must be a positive finite sampling time or None, got {dt!r}")
         self._images: dict[str, ConvexSet] = {}
+        self._no_feedthrough: LinearSystem | None = None
+
+    # -- the matrices: arrays when constant, per step always ----------------------------------------
+    A = property(lambda self: self._A.constant(), doc="A (n×n) of a constant system; else see `A_at`.")
+    B = property(lambda self: self._B.constant(), doc="B (n×n_u), the known-input matrix; see `B_at`.")
+    C = property(lambda self: self._C.constant(), doc="C (m×n) of a constant system; else see `C_at`.")
+    D = property(lambda self: self._D.constant(), doc="D (m×n_u), the feedthrough; see `D_at`.")
+    E = property(lambda self: self._E.constant(), doc="E (n×p), the process-noise matrix; see `E_at`.")
+    F = property(lambda self: self._F.constant(), doc="F (m×q), the measurement-noise matrix; see `F_at`.")
+
+    def A_at(self, k: int) -> np.ndarray:
+        """A_k (Φ_k of the smoothing paper)."""
+        return self._A(k)
+
+    def B_at(self, k: int) -> np.ndarray:
+        """B_k, the known-input matrix."""
+        return self._B(k)
+
+    def C_at(self, k: int) -> np.ndarray:
+        """C_k (Ξ_k of the smoothing paper)."""
+        return self._C(k)
+
+    def D_at(self, k: int) -> np.ndarray:
+        """D_k, the feedthrough of the known input."""
+        return self._D(k)
+
+    def E_at(self, k: int) -> np.ndarray:
+        """E_k, the process-noise matrix (Γ_k of the smoothing paper)."""
+        return self._E(k)
+
+    def F_at(self, k: int) -> np.ndarray:
+        """F_k, the measurement-noise matrix (Ψ_k of the smoothing paper)."""
+        return self._F(k)
+
+    def _matrices(self):
+        return (self._A, self._B, self._C, self._D, self._E, self._F)
 
     def __repr__(self) -> str:
-        varying = [f"{M.name}: {M.kind}" for M in (self.A, self.B, self.C, self.D) if not M.is_constant]
-        parts = [f"n={self.n}", f"m={self.m}", f"W={self.W!r}", f"V={self.V!r}"]
-        parts.append("time-varying " + ", ".join(varying) if varying else "constant A, B, C, D")
+        varying = [f"{M.name}: {M.kind}" for M in self._matrices() if not M.is_constant]
+        parts = [f"n={self.n}", f"m={self.m}"]
         if self._u is not None:
-            parts.append("input u: " + ("callable of k" if self._u._call is not None
-                                        else f"{len(self._u._rows)} steps"))
+            parts.append(f"n_u={self.n_u}")
+        parts += [f"W={self.W!r}", f"V={self.V!r}"]
+        parts.append("time-varying " + ", ".join(varying) if varying else "constant matrices")
+        if self._u is not None:
+            parts.append(f"input u: {self._u.kind}" + ("" if self.has_feedthrough else ", no feedthrough"))
         if self.dt is not None:
             parts.append(f"dt={self.dt:g}")
         return f"LinearSystem({', '.join(parts)})"
 
-    # -- pickling: the cached noise images are recomputed on demand ------------------------------
+    # -- pickling: the cached noise images and feedthrough-free twin are recomputed on demand --------
     def __getstate__(self) -> dict:
         state = self.__dict__.copy()
-        state["_images"] = {}
+        state["_images"], state["_no_feedthrough"] = {}, None
         return state
 
     def _with_noises(self, W: ConvexSet, V: ConvexSet) -> "LinearSystem":
@@ -233,122 +185,160 @@ class LinearSystem:
         The deviation form about a nominal trajectory (`setsmooth.trajectories.nominal`).
         """
         other = copy.copy(self)
-        other.W, other.V, other._u, other._images = W, V, None, {}
+        other.W, other.V, other._u, other._images, other._no_feedthrough = W, V, None, {}, None
         return other
 
     @property
+    def time_varying(self) -> tuple[str, ...]:
+        """The names of the matrices given as sequences or callables of k (empty when all are constant)."""
+        return tuple(M.name for M in self._matrices() if not M.is_constant)
+
+    @property
     def is_time_invariant(self) -> bool:
-        return all(M.is_constant for M in (self.A, self.B, self.C, self.D)) and self._u is None
+        return all(M.is_constant for M in self._matrices()) and self._u is None
 
     @property
     def has_input(self) -> bool:
-        """Whether a known input term u was given."""
+        """Whether a known input u was given."""
         return self._u is not None
 
+    @property
+    def has_feedthrough(self) -> bool:
+        """Whether the known input reaches the measurements (D given and not a constant zero)."""
+        return self._u is not None and not self._D.is_zero
+
     def input_term(self, k: int) -> np.ndarray:
-        """The known term u_k added to x_{k+1} (zeros without input)."""
-        return np.zeros(self.n) if self._u is None else self._u(k)
+        """B_k u_k, the known term of x_{k+1} (zeros without input)."""
+        return np.zeros(self.n) if self._u is None else self._B(k) @ self._u(k)
 
     def nonzero_input(self, k: int) -> np.ndarray | None:
-        """u_k, or None when there is no input or u_k = 0: a zero term is no translation to make."""
+        """B_k u_k, or None when there is no input or it is 0: a zero term is no translation to make."""
         if self._u is None:
             return None
-        u = self._u(k)
-        return u if u.any() else None
+        term = self.input_term(k)
+        return term if term.any() else None
+
+    def feedthrough_term(self, k: int) -> np.ndarray:
+        """D_k u_k, the known term of y_k (zeros without a feedthrough)."""
+        return self._D(k) @ self._u(k) if self.has_feedthrough else np.zeros(self.m)
+
+    def without_feedthrough(self, ys: Any) -> tuple["LinearSystem", np.ndarray]:
+        """This system without D and the measurements ys − D_k u_k: the same sets for every estimator.
+
+        The estimators' door (`setsmooth._validation.measured`) calls it once, so inside them y_k
+        = C_k x_k + F_k v_k. The returned system is one object per system (their results can be
+        checked against each other) and has no feedthrough, so a second call changes nothing.
+
+        Parameters
+        ----------
+        ys : ndarray, shape (T+1, m)
+            Measurements, already checked (time first).
+        """
+        if not self.has_feedthrough:
+            return self, ys
+        offsets = np.array([self.feedthrough_term(k) for k in range(len(ys))])
+        if self._no_feedthrough is None:
+            other = copy.copy(self)
+            other._D, other._no_feedthrough = TimeVarying.zeros("D", self.m, self.n_u), None
+            self._no_feedthrough = other
+        return self._no_feedthrough, ys - offsets
 
     def process_noise_image(self, k: int, *, negated: bool = False) -> ConvexSet:
-        """Γ_k W (or Γ_k(−W), the smoother's term in smoothing (15)), computed once when Γ is constant.
+        """E_k W (or E_k(−W), the smoother's term in smoothing (15)), computed once when E is constant.
 
         Parameters
         ----------
         k : int
         negated : bool
-            Return Γ_k(−W) instead of Γ_k W.
+            Return E_k(−W) instead of E_k W.
 
         Returns
         -------
         ConvexSet
             Built by the trusted set algebra from matrices this system validated: the same set
-            ``B(k) @ W`` (``B(k) @ -W``) gives, shared by every step when B is constant.
+            ``E_at(k) @ W`` (``E_at(k) @ -W``) gives, shared by every step when E is constant.
         """
-        key = "-BW" if negated else "BW"
+        key = "-EW" if negated else "EW"
         image = self._images.get(key)
         if image is None:
             W = linear_map(-np.eye(self.p), self.W) if negated else self.W
-            image = linear_map(self.B(k), W)
-            if self.B.is_constant:
+            image = linear_map(self._E(k), W)
+            if self._E.is_constant:
                 self._images[key] = image
         return image
 
     def measurement_noise_image(self, k: int) -> ConvexSet:
-        """Ψ_k(−V), the set y_k − C_k x_k must lie in (stability (4)), computed once when Ψ is constant."""
-        image = self._images.get("-DV")
+        """F_k(−V), the set y_k − C_k x_k must lie in (stability (4)), computed once when F is constant."""
+        image = self._images.get("-FV")
         if image is None:
-            image = linear_map(self.D(k), linear_map(-np.eye(self.q), self.V))
-            if self.D.is_constant:
-                self._images["-DV"] = image
+            image = linear_map(self._F(k), linear_map(-np.eye(self.q), self.V))
+            if self._F.is_constant:
+                self._images["-FV"] = image
         return image
 
     def step(self, k: int, x: np.ndarray, w: np.ndarray) -> np.ndarray:
-        """x_{k+1} for a realized process noise w_k."""
-        return self.A(k) @ x + self.B(k) @ w + self.input_term(k)
+        """x_{k+1} = A_k x_k + B_k u_k + E_k w_k for a realized process noise w_k."""
+        return self._A(k) @ x + self.input_term(k) + self._E(k) @ w
 
     def measure(self, k: int, x: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """y_k for a realized measurement noise v_k."""
-        return self.C(k) @ x + self.D(k) @ v
+        """y_k = C_k x_k + D_k u_k + F_k v_k for a realized measurement noise v_k."""
+        return self._C(k) @ x + self.feedthrough_term(k) + self._F(k) @ v
 
     @classmethod
-    def from_statespace(cls, statespace, W: ConvexSet, V: ConvexSet, *, noise_inputs: Any = None,
-                        inputs: Any = None, Psi: Any = None, dt: float | None = None,
+    def from_statespace(cls, statespace, *, W: ConvexSet, V: ConvexSet, E: Any = None, F: Any = None,
+                        u: Any = None, noise_inputs: Any = None, dt: float | None = None,
                         method: str | None = None, partition: int = 32) -> "LinearSystem":
-        """Build from a `control.StateSpace` whose inputs are noises w and, optionally, known inputs.
+        """Build from a `control.StateSpace`: its B and D are the known-input matrix and feedthrough.
 
-        The plant is ẋ = A x + B_w w + B_u u (continuous) or x⁺ = A x + B_w w + B_u u (discrete),
-        y = C x, with B_w, B_u the columns of ``statespace.B`` selected by ``noise_inputs`` and the
-        others. The measurement is y_k = C x_k + Ψ v_k with v_k ∈ V.
+        The plant is ẋ = A x + B u + E w (continuous) or x⁺ = A x + B u + E w (discrete),
+        y = C x + D u + F v, with w ∈ W, v ∈ V. ``statespace.B`` and ``statespace.D`` act on the
+        known input u as in python-control, except the columns that ``noise_inputs`` selects: those
+        inputs are the noise w, and their columns of ``statespace.B`` are E (then ``E`` is not given).
 
         A continuous model is sampled with period ``dt``; each ``method`` states what it assumes of
         the noise and gives an enclosure exactly under that assumption:
 
         * ``'bounded'`` (the default): w(t) ∈ W at every instant, any measurable signal (it may switch
-          sign inside a sample interval). The system is x_{k+1} = e^{AΔ} x_k + r_k + Γ_u u_k with
-          r_k in a sound outer bound of ∫_0^Δ e^{Aτ} B_w W dτ (`setsmooth.models.discretization.
+          sign inside a sample interval). The system is x_{k+1} = e^{AΔ} x_k + B_d u_k + r_k with
+          r_k in a sound outer bound of ∫_0^Δ e^{Aτ} E W dτ (`setsmooth.models.discretization.
           bounded_noise_set`: a zonotope from ``partition`` pieces of the interval plus a certified
-          remainder box). Its B is the identity and its W that n-dimensional set.
+          remainder box). Its E is the identity and its W that n-dimensional set.
         * ``'zoh'``: w is constant on every sample interval, equal to w_k ∈ W there (a noise that
-          is itself sampled and held). B is ∫_0^Δ e^{Aτ} dτ B_w and W is unchanged. A noise that
+          is itself sampled and held). E is ∫_0^Δ e^{Aτ} dτ E and W is unchanged. A noise that
           varies inside an interval can leave this model: the filter may then lose the true state.
 
         Known inputs are held constant over each sample interval (zero-order hold, a digital
-        controller's convention) in both modes. 'foh' and 'tustin' are not offered: Tustin's
-        rule is exact for no class of signals, so its sets would not enclose the increments, and a
-        first-order-hold noise stays in W at every instant, which 'bounded' covers.
+        controller's convention, python-control's ``sample_system`` default) in both modes. 'foh'
+        and 'tustin' are not offered: Tustin's rule is exact for no class of signals, so its sets
+        would not enclose the increments, and a first-order-hold noise stays in W at every instant,
+        which 'bounded' covers.
 
         Parameters
         ----------
         statespace : control.StateSpace
-            Continuous or discrete. Its feedthrough D must be zero: from a noise input it would couple
-            w and v, which the set-membership model treats as unrelated; from a known input, subtract
-            D u_k from the measurements first.
-        W : ConvexSet
-            Range of the noise inputs (dim = len(noise_inputs)); bounded for 'bounded'.
-        V : ConvexSet
+            Continuous or discrete. Its feedthrough D from a noise input must be zero (it would
+            couple w and v, which the set-membership model treats as unrelated); from a known input
+            it is the system's D.
+        W : ConvexSet, keyword-only
+            Range of the process noise w; bounded for 'bounded'.
+        V : ConvexSet, keyword-only
             Range of the measurement noise v.
-        noise_inputs : sequence of int, optional
+        E : array_like, optional, keyword-only
+            Process-noise matrix (n × W.dim) of the plant as given (continuous or discrete); the
+            identity by default (W.dim = n). Not with ``noise_inputs``, which selects it from B.
+        F : array_like, optional, keyword-only
+            Measurement-noise matrix (m × V.dim); the identity by default (V.dim = m).
+        u : array_like of shape (T, n_u), or callable k -> (n_u,), optional, keyword-only
+            Samples u_k of the known inputs, time first (required when the plant has known inputs).
+        noise_inputs : sequence of int, optional, keyword-only
             Indices of the statespace inputs that are noises w; the others are known inputs. None
-            (default): every input is a noise.
-        inputs : array_like of shape (T, number of known inputs), or callable k -> array, optional
-            Samples u_k of the known inputs (required when there are known inputs). The system's
-            known term is Γ_u u_k (`LinearSystem`'s ``u``).
-        Psi : array_like, optional
-            Measurement-noise matrix Ψ (m × V.dim) of y_k = C x_k + Ψ v_k; the identity by default.
-            (It is the system's ``D``, smoothing paper (14); ``statespace.D`` is the feedthrough.)
-        dt : float, optional
+            (default): every input is a known input.
+        dt : float, optional, keyword-only
             Sampling time Δ: required for a continuous model; for a discrete one it must agree with
             ``statespace.dt`` (or supply it when that is ``True``, unspecified).
-        method : {'bounded', 'zoh'}, optional
+        method : {'bounded', 'zoh'}, optional, keyword-only
             Noise model of a continuous plant (above); must be None for a discrete one.
-        partition : int
+        partition : int, keyword-only
             Pieces of [0, Δ] for 'bounded': more is tighter, with more generators (the noise set has
             ``partition`` copies of W's generators plus n; 32 by default).
 
@@ -362,23 +352,23 @@ class LinearSystem:
         TypeError
             When ``statespace`` is not a `control.StateSpace`, or W/V not `ConvexSet`s.
         ValueError
-            For a nonzero feedthrough, a missing or disagreeing ``dt``, an unknown ``method`` (or
-            one given with a discrete model), bad ``noise_inputs``, ``W`` of the wrong dimension,
-            missing or superfluous ``inputs``.
+            For a feedthrough from a noise input, a missing or disagreeing ``dt``, an unknown
+            ``method`` (or one given with a discrete model), bad ``noise_inputs`` (or given with
+            ``E``), ``W`` of the wrong dimension, missing or superfluous ``u``.
 
         Examples
         --------
         >>> import control, numpy as np, setsmooth as ss
         >>> plant = control.ss([[0.0, 1.0], [-4.0, -0.4]], [[0.0, 0.0], [1.0, 1.0]], [[1.0, 0.0]], 0)
-        >>> system = ss.LinearSystem.from_statespace(plant, ss.Box([-0.5], [0.5]), ss.Box([-0.1], [0.1]),
-        ...                                          noise_inputs=[1], inputs=np.ones((20, 1)), dt=0.1)
-        >>> system.n, system.W.dim, system.dt, system.has_input
-        (2, 2, 0.1, True)
+        >>> system = ss.LinearSystem.from_statespace(plant, W=ss.Box([-0.5], [0.5]), V=ss.Box([-0.1], [0.1]),
+        ...                                          noise_inputs=[1], u=np.ones((20, 1)), dt=0.1)
+        >>> system.n, system.n_u, system.W.dim, system.dt, system.has_input
+        (2, 1, 2, 0.1, True)
         """
         from .statespace import linear_system_from_statespace
 
-        return linear_system_from_statespace(cls, statespace, W, V, noise_inputs=noise_inputs,
-                                             inputs=inputs, Psi=Psi, dt=dt, method=method,
+        return linear_system_from_statespace(cls, statespace, W=W, V=V, E=E, F=F, u=u,
+                                             noise_inputs=noise_inputs, dt=dt, method=method,
                                              partition=partition)
 
 

@@ -142,7 +142,7 @@ def rethinking_example_30() -> LinearSystem:
     >>> system.n, system.m, system.p
     (2, 1, 1)
     """
-    return LinearSystem([[1.0, 1.0], [0.0, 1.0]], [[0.5], [1.0]], [[1.0, 0.0]], [[1.0]],
+    return LinearSystem([[1.0, 1.0], [0.0, 1.0]], None, [[1.0, 0.0]], E=[[0.5], [1.0]],
                         W=Box([RETHINKING_30_W[0]], [RETHINKING_30_W[1]]),
                         V=Box([RETHINKING_30_V[0]], [RETHINKING_30_V[1]]))
 

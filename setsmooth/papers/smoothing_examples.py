@@ -47,7 +47,7 @@ def smoothing_example_31() -> LinearSystem:
     (2, 2, 1)
     """
     s1, c1 = np.sin(1.0), np.cos(1.0)
-    return LinearSystem([[s1, c1], [-c1, s1]], [[0.5], [1.0]], [[0.5, 0.5], [1.0, 0.3]], np.eye(2),
+    return LinearSystem([[s1, c1], [-c1, s1]], None, [[0.5, 0.5], [1.0, 0.3]], E=[[0.5], [1.0]],
                         W=Box([-1.0], [1.0]), V=Box([-1.0, -1.0], [1.0, 1.0]))
 
 

@@ -141,7 +141,7 @@ class TrajectoryOracle:
         col = 1
         for j in range(self.T + 1):
             if j > 0:
-                Ak, Bk = system.A(j - 1), system.B(j - 1)
+                Ak, Bk = system.A_at(j - 1), system.E_at(j - 1)
                 sw = starts[col]
                 col += 1
                 h[sw:sw + fw.G.shape[1]] = fw.h
@@ -152,7 +152,7 @@ class TrajectoryOracle:
             col += 1
             h[sv:sv + fv.G.shape[1]] = fv.h
             add_rows(embed(fv.A, sv), fv.b, j)
-            Cj, Dj = system.C(j), system.D(j)
+            Cj, Dj = system.C_at(j), system.F_at(j)
             level.extend([0.0] * fv.A.shape[0] + [0.0] * (fw.A.shape[0] if j > 0 else 0))
             add_rows(Cj @ M + embed(Dj @ fv.G, sv), ys[j] - Cj @ m - Dj @ fv.c, j)
             hfin = np.where(np.isfinite(h), h, 0.0)

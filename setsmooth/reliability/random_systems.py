@@ -210,7 +210,7 @@ def base_case(seed: int, index: int, T_range: tuple[int, int] = (10, 40),
         X0 = random_cz(rng, n, rng.uniform(0.5, 2.0))
         W = random_cz(rng, p, rng.uniform(0.2, 1.0))
         V = random_cz(rng, q, rng.uniform(0.2, 1.0))
-    system = ss.LinearSystem(A, B, C, D, W=W, V=V)
+    system = ss.LinearSystem(A, None, C, E=B, F=D, W=W, V=V)
     xs, ys = ss.simulate(system, X0, T, rng)
     return Case(f"{index:03d}-{kind}-{noise}-scale1", seed, index, kind, noise, "scale1", system, X0,
                 xs, ys, 1.0, np.zeros(n))
@@ -245,17 +245,17 @@ def in_regime(base: Case, regime: str) -> Case:
     if regime == "scale1":
         return base
     sys0 = base.system
-    A, B, C, D = sys0.A(0), sys0.B(0), sys0.C(0), sys0.D(0)
+    A, E, C, F = sys0.A, sys0.E, sys0.C, sys0.F
     name = base.name.rsplit("-", 1)[0] + "-" + regime
     if regime.startswith("scale"):
         s = REGIME_SCALE[regime]
-        system = ss.LinearSystem(A, B, C, D, W=scaled_set(sys0.W, s), V=scaled_set(sys0.V, s))
+        system = ss.LinearSystem(A, None, C, E=E, F=F, W=scaled_set(sys0.W, s), V=scaled_set(sys0.V, s))
         return Case(name, base.seed, base.index, base.kind, base.noise, regime, system,
                     scaled_set(base.X0, s), base.xs * s, base.ys * s, s, np.zeros(sys0.n))
     rng = np.random.default_rng(np.random.SeedSequence([base.seed, base.index, 1]))
     o = OFFSET * rng.uniform(1.0, 2.0, sys0.n) * rng.choice([-1.0, 1.0], sys0.n)
     u = np.tile((np.eye(sys0.n) - A) @ o, (base.T, 1))
-    system = ss.LinearSystem(A, B, C, D, W=sys0.W, V=sys0.V, u=u)
+    system = ss.LinearSystem(A, np.eye(sys0.n), C, E=E, F=F, W=sys0.W, V=sys0.V, u=u)
     return Case(name, base.seed, base.index, base.kind, base.noise, regime, system,
                 translated_set(base.X0, o), base.xs + o, base.ys + C @ o, 1.0, o)
 
@@ -278,8 +278,8 @@ def triangle_case(seed: int, T: int = 100) -> Case:
     """
     s1, c1 = np.sin(1.0), np.cos(1.0)
     W = ss.ConstrainedZonotope([[0.4, -0.3, 0.1], [0.1, 0.2, -0.35]], [0.0, 0.0], [[1.0, 1.0, 1.0]], [1.0])
-    system = ss.LinearSystem([[s1, c1], [-c1, s1]], np.eye(2), [[0.5, 0.5], [1.0, 0.3]], np.eye(2),
-                             W=W, V=ss.Box([-1.0, -1.0], [1.0, 1.0]))
+    system = ss.LinearSystem([[s1, c1], [-c1, s1]], None, [[0.5, 0.5], [1.0, 0.3]], W=W,
+                             V=ss.Box([-1.0, -1.0], [1.0, 1.0]))
     X0 = ss.Box([-5.0, -5.0], [5.0, 5.0])
     xs, ys = ss.simulate(system, X0, T, np.random.default_rng(seed))
     return Case(f"triangle-W-seed{seed}-T{T}", seed, -1, "example31_triangle_W", "cz", "scale1", system,

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from .._validation import as_measurements, check_system
+from .._validation import check_system, measured
 from ..filters.classical import classical_filter
 from ..filters.consistency import check_on_inconsistent, first_inconsistency, report_inconsistency
 from ..results import SetEstimates
@@ -88,7 +88,7 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
     --------
     >>> import numpy as np, setsmooth as ss
     >>> box = ss.Box([-1.0], [1.0])
-    >>> system = ss.LinearSystem([[1.0]], [[1.0]], [[1.0]], [[1.0]], W=box, V=box)
+    >>> system = ss.LinearSystem([[1.0]], None, [[1.0]], W=box, V=box)
     >>> smoothed = ss.optimal_smoother(system, ss.Box([-5.0], [5.0]), [[0.0], [3.0]])
     >>> [S.interval_hull().hi.round(6).tolist() for S in smoothed]   # y_1 = 3 pins x_1 = 2, x_0 = 1
     [[1.0], [2.0]]
@@ -99,7 +99,7 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
         raise ValueError("posteriors= is only used by method='recursion'; the trajectory form never "
                          "reads them (pass method='recursion', or drop posteriors)")
     check_on_inconsistent(on_inconsistent)
-    ys = as_measurements(ys, check_system(system).m)
+    system, ys = measured(system, ys)
     if method == "auto":
         method = "trajectory" if posteriors is None else "recursion"
     if method == "trajectory":
@@ -184,8 +184,8 @@ def smoothing_step(system, k: int, posterior: ConvexSet, next_smoothed: ConvexSe
     Returns
     -------
     ConvexSet
-        {x ∈ posterior : A_k x ∈ next_smoothed ⊕ B_k(−W) − u_k}; B_k(−W) is the system's cached image
-        when B is constant, and a zero u_k adds no translation.
+        {x ∈ posterior : A_k x ∈ next_smoothed ⊕ E_k(−W) − B_k u_k}; E_k(−W) is the system's cached
+        image when E is constant, and a zero B_k u_k adds no translation.
     """
     _check_state_set(posterior, "posterior", check_system(system).n)
     _check_state_set(next_smoothed, "next_smoothed", system.n)
@@ -197,7 +197,7 @@ def _smoothing_step(system, k: int, posterior: ConvexSet, next_smoothed: ConvexS
     # algebra is called directly. An empty next_smoothed needs no case here: the algebra absorbs it.
     noise = system.process_noise_image(k, negated=True)
     if isinstance(next_smoothed, Polygon):
-        # Polygons charge every rounding to their pad; the algebra's image B_k(−W) is computed in
+        # Polygons charge every rounding to their pad; the algebra's image E_k(−W) is computed in
         # floating point, so its polygon comes with that rounding charged too.
         from ..filters._polygon_form import noise_polygon
 
@@ -206,7 +206,7 @@ def _smoothing_step(system, k: int, posterior: ConvexSet, next_smoothed: ConvexS
     u = system.nonzero_input(k)
     if u is not None:
         reachable_from = translate(reachable_from, -u)
-    return generalized_intersection(posterior, system.A(k), reachable_from)
+    return generalized_intersection(posterior, system.A_at(k), reachable_from)
 
 
 def _check_state_set(S: Any, name: str, n: int) -> None:

@@ -85,12 +85,12 @@ class TrajectorySet(ConvexSet):
             k = self.start + j
             w = cp.Variable(sys.p)
             cons += list(sys.W.constraints(w))
-            cons.append(states[j + 1] == sys.A(k) @ states[j] + sys.B(k) @ w + sys.input_term(k))
+            cons.append(states[j + 1] == sys.A_at(k) @ states[j] + sys.E_at(k) @ w + sys.input_term(k))
         for j in range(last + 1):
             k = self.start + j
             v = cp.Variable(sys.q)
             cons += list(sys.V.constraints(v))
-            measured = sys.C(k) @ states[j] + sys.D(k) @ v
+            measured = sys.C_at(k) @ states[j] + sys.F_at(k) @ v
             if relaxed is not None:
                 measured = measured + relaxed[j] * cp.Variable(sys.m)
             cons.append(measured == self.ys[j])

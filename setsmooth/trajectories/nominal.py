@@ -1,9 +1,10 @@
 """Algorithm 1's recursion about a nominal trajectory: the same sets, computed as deviations.
 
-With x̄_0 the centre of X0 and x̄_{k+1} = A_k x̄_k + B_k c_W + u_k (the noises at the centres c_W, c_V),
-the deviations δ_k = x_k − x̄_k obey
+With x̄_0 the centre of X0 and x̄_{k+1} = A_k x̄_k + E_k c_W + B_k u_k (the noises at the centres c_W,
+c_V), the deviations δ_k = x_k − x̄_k obey (y_k without its feedthrough D_k u_k, as the estimators' door
+gives it)
 
-    δ_{k+1} = A_k δ_k + B_k (w_k − c_W),          y_k − C_k x̄_k − D_k c_V = C_k δ_k + D_k (v_k − c_V),
+    δ_{k+1} = A_k δ_k + E_k (w_k − c_W),          y_k − C_k x̄_k − F_k c_V = C_k δ_k + F_k (v_k − c_V),
 
 a system with the same matrices, noise ranges W − c_W and V − c_V, no input, initial range X0 − x̄_0
 and measurements ỹ_k. Its posteriors and smoothed ranges, translated by x̄_k, are the original ones.
@@ -82,8 +83,8 @@ def about_nominal(system, X0: ConvexSet, ys: np.ndarray) -> NominalDeviations | 
     nominal = np.empty((T + 1, system.n))
     nominal[0] = c_X0
     for k in range(T):
-        nominal[k + 1] = system.A(k) @ nominal[k] + system.B(k) @ c_W + system.input_term(k)
-    ys_dev = np.array([ys[k] - system.C(k) @ nominal[k] - system.D(k) @ c_V for k in range(T + 1)])
+        nominal[k + 1] = system.A_at(k) @ nominal[k] + system.E_at(k) @ c_W + system.input_term(k)
+    ys_dev = np.array([ys[k] - system.C_at(k) @ nominal[k] - system.F_at(k) @ c_V for k in range(T + 1)])
     deviation_system = system._with_noises(translate(system.W, -c_W), translate(system.V, -c_V))
     return NominalDeviations(deviation_system, translate(X0, -c_X0), ys_dev, nominal)
 

@@ -39,7 +39,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from .._validation import as_measurements, check_system
+from .._validation import check_system, measured
 from ..sets.base import ConvexSet
 from ..sets import rounding
 from ..sets.constrained_zonotope import ConstrainedZonotope
@@ -84,15 +84,14 @@ def trajectory_set(system, prior: ConvexSet, ys: Any, start: int = 0,
     --------
     >>> import numpy as np, setsmooth as ss
     >>> box = ss.Box([-1.0], [1.0])
-    >>> system = ss.LinearSystem([[1.0]], [[1.0]], [[1.0]], [[1.0]], W=box, V=box)
+    >>> system = ss.LinearSystem([[1.0]], None, [[1.0]], W=box, V=box)
     >>> Z = ss.trajectory_set(system, ss.Box([-5.0], [5.0]), [[0.0], [0.5], [1.0]])
     >>> Z.dim
     3
     >>> round(Z.support([0.0, 0.0, 1.0]), 6)   # x_2 ≤ y_2 + 1
     2.0
     """
-    check_system(system)
-    ys = as_measurements(ys, system.m)
+    system, ys = measured(system, ys)
     if not isinstance(prior, ConvexSet) or prior.dim != system.n:
         raise ValueError(f"prior must be a ConvexSet of dimension n = {system.n}, got "
                          f"{prior.dim if isinstance(prior, ConvexSet) else type(prior).__name__}")
@@ -107,8 +106,8 @@ def filtering_map(system, prior: ConvexSet, ys: Any, i: int, k: int) -> ConvexSe
     """F_{k,i}(prior): the posterior at time k of the classical filter started at time i from ``prior``.
 
     F_{k,i}(Z) = f_k ∘ … ∘ f_{i+1}(X_i(y_i) ∩ Z) for k > i and X_i(y_i) ∩ Z for k = i (stability paper
-    (7)), where X_l(y_l) = {x : y_l − C_l x ∈ D_l V} and f_l(S) = X_l(y_l) ∩ (A_{l−1} S ⊕ B_{l−1} W ⊕
-    u_{l−1}). With ``prior`` = ⟦x_i | y_{0:i−1}⟧ it is the exact posterior ⟦x_k | y_{0:k}⟧; the OIT
+    (7)), where X_l(y_l) = {x : y_l − C_l x ∈ F_l V} and f_l(S) = X_l(y_l) ∩ (A_{l−1} S ⊕ E_{l−1} W ⊕
+    B_{l−1} u_{l−1}). With ``prior`` = ⟦x_i | y_{0:i−1}⟧ it is the exact posterior ⟦x_k | y_{0:k}⟧; the OIT
     filters apply it to an outer bound of that prior. Computed as the projection on x_k of
     `trajectory_set` (the CZ of stability (22)–(23), with the states kept as free factors).
 
@@ -137,7 +136,7 @@ def filtering_map(system, prior: ConvexSet, ys: Any, i: int, k: int) -> ConvexSe
     --------
     >>> import numpy as np, setsmooth as ss
     >>> box = ss.Box([-1.0], [1.0])
-    >>> system = ss.LinearSystem([[1.0]], [[1.0]], [[1.0]], [[1.0]], W=box, V=box)
+    >>> system = ss.LinearSystem([[1.0]], None, [[1.0]], W=box, V=box)
     >>> F = ss.filtering_map(system, ss.Box([-5.0], [5.0]), [[0.0], [0.5], [1.0]], 1, 2)
     >>> hull = F.interval_hull()          # y_1 = 0.5 gives x_1 ∈ [−0.5, 1.5], then x_2 ∈ [0, 2]
     >>> (hull.lo.round(6) + 0.0).tolist(), (hull.hi.round(6) + 0.0).tolist()   # + 0.0: no −0.0
@@ -254,7 +253,7 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
     Gw = _dense(Zw.G)
     for j in range(steps):
         k = start + j
-        Bk, Ak, uk = system.B(k), system.A(k), system.input_term(k)
+        Bk, Ak, uk = system.E_at(k), system.A_at(k), system.input_term(k)
         nominal[j + 1] = Ak @ nominal[j] + Bk @ Zw.c + uk
         A.put(row, (j + 1) * n, eye)
         A.put(row, j * n, -Ak)
@@ -264,7 +263,7 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
         # bounded as accurately as in twice the working precision.
         nominal_error = rounding.residual_bound([(Ak, nominal[j]), (Bk, Zw.c), (np.ones(n), uk),
                                                  (-np.ones(n), nominal[j + 1])])
-        if Bw_charge is None or not system.B.is_constant:
+        if Bw_charge is None or "E" in system.time_varying:
             Bw_charge = _product_charge(Bk, Gw, Zw)
         slack.append(rounding.add(nominal_error, Bw_charge[0]))
         slack_free.append(Bw_charge[1])
@@ -273,13 +272,13 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
     Gv = _dense(Zv.G)
     for j in range(steps + 1):
         k = start + j
-        Dk, Ck = system.D(k), system.C(k)
+        Dk, Ck = system.F_at(k), system.C_at(k)
         A.put(row, j * n, Ck)
         A.put(row, col_v + j * Zv.ng, Dk @ Gv)
         rhs.append(ys[k] - Dk @ Zv.c - Ck @ nominal[j])
         rhs_error = rounding.residual_bound([(np.ones(m), ys[k]), (-Dk, Zv.c), (-Ck, nominal[j]),
                                              (-np.ones(m), rhs[-1])])
-        if Dv_charge is None or not system.D.is_constant:
+        if Dv_charge is None or "F" in system.time_varying:
             Dv_charge = _product_charge(Dk, Gv, Zv)
         slack.append(rounding.add(rhs_error, Dv_charge[0]))
         slack_free.append(Dv_charge[1])

@@ -29,12 +29,12 @@ def test_filter_with_cz_inputs_is_exactly_stability_20_and_21():
     Gv = np.eye(2)
     assert np.allclose(_dense(post.G), np.hstack([X0.G, np.zeros((2, 2))]))
     assert np.allclose(post.c, X0.c)
-    assert np.allclose(_dense(post.A), np.hstack([sys.C(0) @ X0.G, sys.D(0) @ Gv]))
-    assert np.allclose(post.b, y - sys.C(0) @ X0.c)
+    assert np.allclose(_dense(post.A), np.hstack([sys.C_at(0) @ X0.G, sys.F_at(0) @ Gv]))
+    assert np.allclose(post.b, y - sys.C_at(0) @ X0.c)
     prior = predict(sys, 0, post)
     # (20): Z([A G, B G_w], A c + B c_w, blkdiag(A, A_w), [b; b_w], [h; h_w])
-    assert np.allclose(_dense(prior.G), np.hstack([sys.A(0) @ _dense(post.G), sys.B(0)]))
-    assert np.allclose(prior.c, sys.A(0) @ post.c)
+    assert np.allclose(_dense(prior.G), np.hstack([sys.A_at(0) @ _dense(post.G), sys.E_at(0)]))
+    assert np.allclose(prior.c, sys.A_at(0) @ post.c)
     assert np.allclose(_dense(prior.A), np.hstack([_dense(post.A), np.zeros((2, 1))]))
     assert np.allclose(prior.h, np.concatenate([post.h, [1.0]]))
 
@@ -122,7 +122,7 @@ def test_thin_posteriors_of_precise_sensors_contain_the_true_state():
         n, m = 4, 2
         plant = random_observable_system(rng, n, n, m)
         W, V = ss.Box(-1e-6 * np.ones(n), 1e-6 * np.ones(n)), ss.Box(-1e-6 * np.ones(m), 1e-6 * np.ones(m))
-        system = ss.LinearSystem(plant.A, np.eye(n), plant.C, np.eye(m), W=W, V=V)
+        system = ss.LinearSystem(plant.A, None, plant.C, W=W, V=V)
         X0 = ss.Box(-5 * np.ones(n), 5 * np.ones(n))
         xs, ys = ss.simulate(system, X0, 4, rng)
         posteriors = ss.classical_filter(system, X0, ys)
@@ -150,7 +150,7 @@ def test_consistent_thin_data_are_never_called_empty():
         np.random.set_state(state)
     n, m = 6, 1
     W, V = ss.Box(-1e-6 * np.ones(n), 1e-6 * np.ones(n)), ss.Box(-1e-6 * np.ones(m), 1e-6 * np.ones(m))
-    system = ss.LinearSystem(plant.A, np.eye(n), plant.C, np.eye(m), W=W, V=V)
+    system = ss.LinearSystem(plant.A, None, plant.C, W=W, V=V)
     X0 = ss.Box(-5 * np.ones(n), 5 * np.ones(n))
     xs, ys = ss.simulate(system, X0, 3, np.random.default_rng(9))
     for form in ("auto", "recursion"):

@@ -12,8 +12,8 @@ import setsmooth as ss
 
 def _plant(seed: int = 1, T: int = 40):
     A = np.array([[1.0, 0.1], [-0.2, 0.95]])
-    system = ss.LinearSystem(A, 0.1 * np.eye(2), np.array([[1.0, 0.0]]), np.eye(1),
-                             W=ss.Box([-1, -1], [1, 1]), V=ss.Box([-0.1], [0.1]))
+    system = ss.LinearSystem(A, None, np.array([[1.0, 0.0]]), E=0.1 * np.eye(2), W=ss.Box([-1, -1], [1, 1]),
+                             V=ss.Box([-0.1], [0.1]))
     X0 = ss.Box([-1, -1], [1, 1])
     xs, ys = ss.simulate(system, X0, T, np.random.default_rng(seed))
     return system, X0, xs, ys

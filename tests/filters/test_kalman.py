@@ -20,16 +20,16 @@ class _Stub:
         self._D = [rng.standard_normal((m, q)) for _ in range(T + 1)]
         self._u = [rng.standard_normal(n) for _ in range(T)]
 
-    def A(self, k):
+    def A_at(self, k):
         return self._A[k]
 
-    def B(self, k):
+    def E_at(self, k):
         return self._B[k]
 
-    def C(self, k):
+    def C_at(self, k):
         return self._C[k]
 
-    def D(self, k):
+    def F_at(self, k):
         return self._D[k]
 
     def input_term(self, k):
@@ -60,21 +60,21 @@ def _batch(sys, ys, x0_mean, P0, Q, R):
     cx = np.zeros((T + 1, n))
     Fx[0][:, :n] = np.eye(n)
     for k in range(T):
-        Fx[k + 1] = sys.A(k) @ Fx[k]
-        Fx[k + 1][:, n + k * p:n + (k + 1) * p] += sys.B(k)
-        cx[k + 1] = sys.A(k) @ cx[k] + sys.input_term(k)
+        Fx[k + 1] = sys.A_at(k) @ Fx[k]
+        Fx[k + 1][:, n + k * p:n + (k + 1) * p] += sys.E_at(k)
+        cx[k + 1] = sys.A_at(k) @ cx[k] + sys.input_term(k)
     Fy = np.zeros((T + 1, m, nz))
     for k in range(T + 1):
-        Fy[k] = sys.C(k) @ Fx[k]
+        Fy[k] = sys.C_at(k) @ Fx[k]
         off = n + T * p + k * q
-        Fy[k][:, off:off + q] += sys.D(k)
+        Fy[k][:, off:off + q] += sys.F_at(k)
     mu_z = np.zeros(nz)
     mu_z[:n] = x0_mean
     Sz = sla.block_diag(P0, *([Q] * T), *([R] * (T + 1)))
     X = Fx.reshape(-1, nz)
     mu_x = X @ mu_z + cx.reshape(-1)
     Ys = Fy.reshape(-1, nz)
-    mu_y = Ys @ mu_z + np.array([sys.C(k) @ cx[k] for k in range(T + 1)]).reshape(-1)
+    mu_y = Ys @ mu_z + np.array([sys.C_at(k) @ cx[k] for k in range(T + 1)]).reshape(-1)
     return X, mu_x, Ys, mu_y, Sz
 
 
@@ -157,16 +157,16 @@ def test_paper_example_31_32_runs():
     class Paper:
         n = 2
 
-        def A(self, k):
+        def A_at(self, k):
             return np.array([[np.sin(1), np.cos(1)], [-np.cos(1), np.sin(1)]])
 
-        def B(self, k):
+        def E_at(self, k):
             return np.array([[0.5], [1.0]])
 
-        def C(self, k):
+        def C_at(self, k):
             return np.array([[0.5, 0.5], [1.0, 0.3]])
 
-        def D(self, k):
+        def F_at(self, k):
             return np.eye(2)
 
         def input_term(self, k):
@@ -179,8 +179,8 @@ def test_paper_example_31_32_runs():
     xs, ys = [], []
     for k in range(T + 1):
         xs.append(x)
-        ys.append(sysp.C(k) @ x + rng.uniform(-1, 1, 2))
-        x = sysp.A(k) @ x + sysp.B(k)[:, 0] * rng.uniform(-1, 1)
+        ys.append(sysp.C_at(k) @ x + rng.uniform(-1, 1, 2))
+        x = sysp.A_at(k) @ x + sysp.E_at(k)[:, 0] * rng.uniform(-1, 1)
     xs, ys = np.array(xs), np.array(ys)
     filt = kalman_filter(sysp, ys, np.zeros(2), np.eye(2), 0.076, 0.036)
     smooth = rts_smoother(sysp, ys, np.zeros(2), np.eye(2), 0.076, 0.036)

@@ -25,12 +25,12 @@ def box(half: float, n: int, centre=None) -> ss.Box:
 
 def example_25() -> ss.LinearSystem:
     w = box(1.0, 1)
-    return ss.LinearSystem([[1.0, 1.0], [0.0, 1.0]], [[0.5], [1.0]], [[1.0, 0.0]], [[1.0]], W=w, V=w)
+    return ss.LinearSystem([[1.0, 1.0], [0.0, 1.0]], None, [[1.0, 0.0]], E=[[0.5], [1.0]], W=w, V=w)
 
 
 def example_26() -> ss.LinearSystem:
     w = box(1.0, 1)
-    return ss.LinearSystem([[0.5, 1.0], [0.0, 1.0]], [[0.5], [1.0]], [[0.0, 1.0]], [[1.0]], W=w, V=w)
+    return ss.LinearSystem([[0.5, 1.0], [0.0, 1.0]], None, [[0.0, 1.0]], E=[[0.5], [1.0]], W=w, V=w)
 
 
 def inside(xs: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
@@ -87,7 +87,7 @@ def test_line5_resets_an_empty_estimate_with_the_smallest_doubled_theta():
     ys = np.array([[10.0], [11.0], [12.0]])  # x_1 ∈ [9, 11] contradicts ⟦x̂_0⟧ = [−1, 1]²
     res = ss.oit_cz_filter(system, box(1.0, 2), ys, delta_bar=2)
     assert res.resets == [0] and res.thetas == {0: 16.0}
-    dec = analysis.observability_decomposition(system.A(0), system.C(0))
+    dec = analysis.observability_decomposition(system.A_at(0), system.C_at(0))
     expected = ss.filtering_map(system, dec.U @ box(16.0, 2), ys, 0, 0)  # P⁻¹(B_16)
     D = np.vstack([np.eye(2), -np.eye(2), [[1.0, 1.0]]])
     np.testing.assert_allclose(res.estimates[0].support_many(D), expected.support_many(D), atol=1e-7)
@@ -111,7 +111,7 @@ def test_detectable_estimates_contain_the_true_state_in_1000_seeded_runs():
     violations = runs = 0
     rng = np.random.default_rng(20240)
     system = example_26()
-    dec = analysis.observability_decomposition(system.A(0), system.C(0))
+    dec = analysis.observability_decomposition(system.A_at(0), system.C_at(0))
     T = 5
     for run in range(1000):
         if run % 2:  # half on (26), half on random detectable systems with n = 3, n_o = 2
@@ -141,7 +141,7 @@ def test_detectable_estimate_contains_the_exact_posterior_eventually():
         xs, ys = ss.simulate(system, true_set, 30, rng)
         res = ss.oit_cz_filter(system, box(1.0, 2), ys, delta_bar=3, hulls=True)
         exact = ss.classical_filter(system, true_set, ys)
-        dec = analysis.observability_decomposition(system.A(0), system.C(0))
+        dec = analysis.observability_decomposition(system.A_at(0), system.C_at(0))
         d = res.delta_bar
         worst = max(Z.support(D[j]) - res.estimates[k].support(D[j])
                     for k, Z in enumerate(exact) if k >= 4 * d for j in range(len(D)))
@@ -192,7 +192,7 @@ def test_algorithm2_resets_like_line5_before_the_switch():
     ys = np.array([[10.0], [11.0], [12.0], [13.0]])
     est = ss.oit_inspired_filter(system, box(1.0, 2), ys, delta=2)
     assert not est[0].is_empty() and not est[1].is_empty()
-    dec = analysis.observability_decomposition(system.A(0), system.C(0))
+    dec = analysis.observability_decomposition(system.A_at(0), system.C_at(0))
     expected = ss.filtering_map(system, dec.U @ box(16.0, 2), ys, 0, 0)
     D = np.vstack([np.eye(2), -np.eye(2)])
     np.testing.assert_allclose(est[0].support_many(D), expected.support_many(D), atol=1e-7)
@@ -229,11 +229,11 @@ def test_bad_arguments_are_named():
         ss.oit_inspired_filter(system, box(1.0, 2), ys, delta=0)
     with pytest.raises(ValueError, match="constrained-zonotope form"):
         ss.oit_cz_filter(system, ss.Ellipsoid(np.zeros(2), np.eye(2)), ys)
-    varying = ss.LinearSystem([np.eye(2)] * 5, [[0.5], [1.0]], [[1.0, 0.0]], [[1.0]], W=box(1.0, 1),
+    varying = ss.LinearSystem([np.eye(2)] * 5, None, [[1.0, 0.0]], E=[[0.5], [1.0]], W=box(1.0, 1),
                               V=box(1.0, 1))
     with pytest.raises(ValueError, match="time-invariant"):
         ss.oit_cz_filter(varying, box(1.0, 2), ys)
-    unstable = ss.LinearSystem([[2.0, 0.0], [0.0, 1.0]], [[0.5], [1.0]], [[0.0, 1.0]], [[1.0]],
-                               W=box(1.0, 1), V=box(1.0, 1))
+    unstable = ss.LinearSystem([[2.0, 0.0], [0.0, 1.0]], None, [[0.0, 1.0]], E=[[0.5], [1.0]], W=box(1.0, 1),
+                               V=box(1.0, 1))
     with pytest.raises(ValueError, match="detectable"):
         ss.oit_cz_filter(unstable, box(1.0, 2), ys)

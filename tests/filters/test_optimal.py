@@ -32,7 +32,7 @@ def simulate_identical(system, X0, T, rng):
         xs.append(system.step(k, xs[-1], w))
     xs = np.array(xs)
     ys = np.array([system.measure(k, xs[k], system.V.sample(rng, 1)[0]) for k in range(T + 1)])
-    return xs, ys, np.concatenate([xs[0], np.tile(w, T), (ys - xs @ system.C(0).T).reshape(-1)])
+    return xs, ys, np.concatenate([xs[0], np.tile(w, T), (ys - xs @ system.C_at(0).T).reshape(-1)])
 
 
 def supports(sets, directions=DIRECTIONS):
@@ -48,12 +48,12 @@ def trajectory_maps(system, joint, k):
     Phi[:, list(joint.x0_dims())] = np.eye(n)
     maps, meas = [Phi.copy()], []
     for l in range(k + 1):
-        M = system.C(l) @ Phi
-        M[:, list(joint.v_dims(l))] += system.D(l)
+        M = system.C_at(l) @ Phi
+        M[:, list(joint.v_dims(l))] += system.F_at(l)
         meas.append(M)
         if l < k:
-            Phi = system.A(l) @ Phi
-            Phi[:, list(joint.w_dims(l))] += system.B(l)
+            Phi = system.A_at(l) @ Phi
+            Phi[:, list(joint.w_dims(l))] += system.E_at(l)
             maps.append(Phi.copy())
     return maps, meas
 
@@ -207,7 +207,7 @@ def random_related_system(rng):
     n, T = 2, 5
     A = rng.standard_normal((n, n))
     A /= max(1.0, np.abs(np.linalg.eigvals(A)).max()) * rng.uniform(0.9, 1.1)
-    system = ss.LinearSystem(A, rng.standard_normal((n, 1)), rng.standard_normal((1, n)), [[1.0]],
+    system = ss.LinearSystem(A, None, rng.standard_normal((1, n)), E=rng.standard_normal((n, 1)),
                              W=ss.Box([-1.0], [1.0]), V=ss.Box([-1.0], [1.0]))
     X0 = ss.Box([-3.0, -3.0], [3.0, 3.0])
     joint = ss.JointRange.unrelated(X0, system.W, system.V, T)
@@ -272,7 +272,7 @@ def test_optimal_posterior_under_random_halfspace_relations_matches_the_polytope
     """A relation among all of ξ: the oracle is exact at k = T, where no coordinate is left out."""
     rng = np.random.default_rng(200 + seed)
     T = 3
-    system = ss.LinearSystem([[1.0, 0.3], [-0.2, 0.9]], rng.standard_normal((2, 1)), [[1.0, 0.5]], [[1.0]],
+    system = ss.LinearSystem([[1.0, 0.3], [-0.2, 0.9]], None, [[1.0, 0.5]], E=rng.standard_normal((2, 1)),
                              W=ss.Box([-1.0], [1.0]), V=ss.Box([-1.0], [1.0]))
     X0 = ss.Box([-3.0, -3.0], [3.0, 3.0])
     joint = ss.JointRange.unrelated(X0, system.W, system.V, T)

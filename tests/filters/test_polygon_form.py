@@ -64,7 +64,8 @@ def test_polygon_form_with_zonotope_and_vpolytope_noises_and_an_input_matches_th
     base = smoothing_example_31()
     W = ss.VPolytope([[0.4, 0.1], [-0.3, 0.2], [0.1, -0.35]])
     V = ss.Zonotope([[1.0, 0.3, 0.0], [0.0, 0.5, 0.8]], [0.1, -0.2])
-    system = ss.LinearSystem(base.A(0), np.eye(2), base.C(0), base.D(0), W=W, V=V, u=lambda k: np.array([0.2, -0.1 * k]))
+    system = ss.LinearSystem(base.A, np.eye(2), base.C, F=base.F, W=W, V=V,
+                             u=lambda k: np.array([0.2, -0.1 * k]))
     X0 = ss.Zonotope([[3.0, 1.0], [0.0, 2.0]], [0.5, 0.0])
     xs, ys = ss.simulate(system, X0, 20, np.random.default_rng(5))
     ours = ss.classical_filter(system, X0, ys, form="polygon")
@@ -97,11 +98,11 @@ def test_polygon_form_refuses_systems_it_does_not_apply_to():
     _, ys = ss.simulate(base, smoothing_example_31_x0(), 3, np.random.default_rng(0))
     with pytest.raises(ValueError, match="X0 with a polygon form"):
         ss.classical_filter(base, ss.Ellipsoid([0.0, 0.0], np.eye(2)), ys, form="polygon")
-    ellipsoid_w = ss.LinearSystem(base.A(0), np.eye(2), base.C(0), base.D(0),
+    ellipsoid_w = ss.LinearSystem(base.A_at(0), None, base.C_at(0), F=base.F_at(0),
                                   W=ss.Ellipsoid([0.0, 0.0], np.eye(2) * 0.1), V=base.V)
-    with pytest.raises(ValueError, match="B W with a polygon form"):
+    with pytest.raises(ValueError, match="E W with a polygon form"):
         ss.classical_filter(ellipsoid_w, smoothing_example_31_x0(), ys, form="polygon")
-    three = ss.LinearSystem(np.eye(3), np.eye(3), np.eye(3), np.eye(3), W=ss.Box(-np.ones(3), np.ones(3)),
+    three = ss.LinearSystem(np.eye(3), None, np.eye(3), W=ss.Box(-np.ones(3), np.ones(3)),
                             V=ss.Box(-np.ones(3), np.ones(3)))
     with pytest.raises(ValueError, match="n = 2"):
         ss.classical_filter(three, ss.Box(-np.ones(3), np.ones(3)), np.zeros((2, 3)), form="polygon")
@@ -120,7 +121,7 @@ def rational_ranges(system, ys):
     """Algorithm 1 on example (31) in rational arithmetic (`polygon_reference`), X0 = [−5, 5]²: the
     posteriors and smoothed ranges as vertex lists, every coordinate rounded to a denominator ≤ 1e45
     after each step (so exact to ~1e-45, far below the 1e-9 the solvers resolve)."""
-    A, Bcol, C = (np.asarray(M, dtype=float) for M in (system.A(0), system.B(0)[:, 0], system.C(0)))
+    A, Bcol, C = (np.asarray(M, dtype=float) for M in (system.A_at(0), system.E_at(0)[:, 0], system.C_at(0)))
     Af = [[Fraction(float(v)) for v in row] for row in A]
     BW = [(Fraction(float(Bcol[0])) * s, Fraction(float(Bcol[1])) * s) for s in (-1, 1)]
 
@@ -183,13 +184,13 @@ def test_form_and_reduce_together_are_refused():
 
 
 def test_the_smoother_charges_the_rounding_of_its_noise_image():
-    """B W and B(−W) come from the set algebra in floating point: before the filter and the backward
+    """E W and E(−W) come from the set algebra in floating point: before the filter and the backward
     step charged their rounding, the certified hull of ⟦x_0 | y_0:1⟧ (1e-16 wide) missed the exact
     one by 5e-18 (the filter's charge alone covers this case; the step charges its own image)."""
     B = np.array([[0.10490011715303971, -0.535669373161111, -0.13109099775757493],
                   [1.3040000451301372, 0.9470809631292422, -0.0606446583254687]])
     w = np.array([0.1257302210933933, -0.1321048632913019, 0.6404226504432821])
-    system = ss.LinearSystem(np.eye(2), B, np.eye(2), np.eye(2), W=ss.Box(w, w),
+    system = ss.LinearSystem(np.eye(2), None, np.eye(2), E=B, W=ss.Box(w, w),
                              V=ss.Box([-1e-16, -1e-16], [1e-16, 1e-16]))
     X0 = ss.Box([-1e-15, -1e-15], [1e-15, 1e-15])
     ys = np.zeros((2, 2))

@@ -71,10 +71,10 @@ def trial(run: int, horizon: int | None = None):
     kind = ("uniform", "vertices", "cz")[run % 3]
     if kind == "cz":
         W, V = CZNoise(rng, n), CZNoise(rng, m)
-        system = ss.LinearSystem(sysc.A, sysc.B, sysc.C, np.eye(m), W=W.set, V=V.set)
+        system = ss.LinearSystem(sysc.A, None, sysc.C, E=sysc.B, W=W.set, V=V.set)
         draw_w, draw_v = W.sample, V.sample
     else:
-        system = ss.LinearSystem(sysc.A, sysc.B, sysc.C, np.eye(m), W=ss.Box(-np.ones(n), np.ones(n)),
+        system = ss.LinearSystem(sysc.A, None, sysc.C, E=sysc.B, W=ss.Box(-np.ones(n), np.ones(n)),
                                  V=ss.Box(-np.ones(m), np.ones(m)))
 
         def box_draw(dim):

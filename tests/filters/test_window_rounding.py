@@ -36,7 +36,7 @@ def _vec(X, v):
 
 def _exact_window(system, d, M, ys, k, c_p):
     """G*, A* (measurement rows only), c*, b* (measurement rows) of the window, exactly."""
-    A, B, C, D = (_frac(f(0)) for f in (system.A, system.B, system.C, system.D))
+    A, B, C, D = (_frac(f(0)) for f in (system.A_at, system.E_at, system.C_at, system.F_at))
     # the noise sets as the window uses them (a box converted with charges, materialized)
     Wz, Vz = (S.to_constrained_zonotope() for S in (system.W, system.V))
     Wz, Vz = (Z.materialized() if Z._charged else Z for Z in (Wz, Vz))
@@ -90,7 +90,7 @@ def _system(rng, n, m, offset):
     W = ss.Box([-0.3], [0.7])
     V = ss.Box(-0.2 * np.ones(m), 0.9 * np.ones(m))
     u = (np.eye(n) - A) @ np.full(n, offset)  # keeps a state offset constant
-    return ss.LinearSystem(A, B, C, np.eye(m), W=W, V=V, u=lambda k: u)
+    return ss.LinearSystem(A, np.eye(n), C, E=B, W=W, V=V, u=lambda k: u)
 
 
 @pytest.mark.parametrize("seed,offset,free", [(0, 1e6, True), (1, 1e6, False), (2, 1.0, True),
@@ -136,7 +136,7 @@ def test_window_charges_cover_the_exact_window(seed, offset, free):
 
 
 def test_a_window_of_exact_matrices_charges_only_the_steps_rounding():
-    system = ss.LinearSystem([[1.0, 1.0], [0.0, 1.0]], [[0.5], [1.0]], [[1.0, 0.0]], [[1.0]],
+    system = ss.LinearSystem([[1.0, 1.0], [0.0, 1.0]], None, [[1.0, 0.0]], E=[[0.5], [1.0]],
                              W=ss.Box([-1.0], [1.0]), V=ss.Box([-1.0], [1.0]))
     ys = np.array([[1.0], [2.0], [4.0], [7.0], [11.0]])
     window = Window(system, 2, np.eye(2))

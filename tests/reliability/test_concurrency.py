@@ -37,7 +37,7 @@ def test_set_pickles_after_a_generic_and_a_fast_query(name):
 
 
 def test_linear_system_with_an_input_sequence_and_its_estimates_pickle():
-    system = ss.LinearSystem([[0.9, 0.2], [0.0, 0.8]], [[1.0], [0.5]], [[1.0, 0.0]], [[1.0]],
+    system = ss.LinearSystem([[0.9, 0.2], [0.0, 0.8]], np.eye(2), [[1.0, 0.0]], E=[[1.0], [0.5]],
                              W=ss.Box([-0.1], [0.1]), V=ss.Box([-0.2], [0.2]),
                              u=np.column_stack([np.linspace(0, 1, 6), np.zeros(6)]))
     X0 = ss.Box([-1.0, -1.0], [1.0, 1.0])

@@ -44,17 +44,17 @@ def _vertex_hulls(system, X0, ys, upto: int):
         fw = forms[1 + j][1]
         Rb = row_block(n)
         Rb[:, (j + 1) * n:(j + 2) * n] = np.eye(n)
-        Rb[:, j * n:(j + 1) * n] = -system.A(j)
-        Rb[:, starts[1 + j]:starts[2 + j]] = -system.B(j) @ fw.G
+        Rb[:, j * n:(j + 1) * n] = -system.A_at(j)
+        Rb[:, starts[1 + j]:starts[2 + j]] = -system.E_at(j) @ fw.G
         rows.append(Rb)
-        rhs.append(system.B(j) @ fw.c + system.input_term(j))
+        rhs.append(system.E_at(j) @ fw.c + system.input_term(j))
     for j in range(upto + 1):
         fv = forms[1 + upto + j][1]
         Rb = row_block(system.m)
-        Rb[:, j * n:(j + 1) * n] = system.C(j)
-        Rb[:, starts[1 + upto + j]:starts[2 + upto + j]] = system.D(j) @ fv.G
+        Rb[:, j * n:(j + 1) * n] = system.C_at(j)
+        Rb[:, starts[1 + upto + j]:starts[2 + upto + j]] = system.F_at(j) @ fv.G
         rows.append(Rb)
-        rhs.append(ys[j] - system.D(j) @ fv.c)
+        rhs.append(ys[j] - system.F_at(j) @ fv.c)
     for s, (_, f) in enumerate(forms):
         if f.A.shape[0]:
             Rb = row_block(f.A.shape[0])
@@ -92,7 +92,7 @@ def _tiny_system(rng, cz_noise: bool):
     C = np.array([[1.0, 0.5]])
     W = (ss.ConstrainedZonotope([[0.6, -0.3, 0.2]], [0.05], [[1.0, 1.0, -0.5]], [0.2])
          if cz_noise else ss.Box([-0.5], [0.4]))
-    system = ss.LinearSystem(A, B, C, [[1.0]], W=W, V=ss.Box([-0.3], [0.5]))
+    system = ss.LinearSystem(A, None, C, E=B, W=W, V=ss.Box([-0.3], [0.5]))
     X0 = ss.Box([-1.0, -0.5], [1.0, 1.5])
     xs, ys = ss.simulate(system, X0, 2, rng)
     return system, X0, xs, ys
@@ -115,12 +115,12 @@ def test_oracle_hulls_equal_vertex_enumeration_of_the_trajectory_polytope(cz_noi
 
 
 def test_oracle_hulls_equal_the_halfspace_polytope_brute_force_over_six_steps():
-    system = ss.LinearSystem([[0.8, 0.5], [-0.4, 0.9]], [[1.0], [0.3]], [[1.0, 0.0], [0.4, 1.0]], np.eye(2),
+    system = ss.LinearSystem([[0.8, 0.5], [-0.4, 0.9]], None, [[1.0, 0.0], [0.4, 1.0]], E=[[1.0], [0.3]],
                              W=ss.Box([-0.4], [0.6]), V=ss.Box([-0.5, -0.2], [0.3, 0.4]))
     X0 = ss.Box([-2.0, -1.0], [1.0, 2.0])
     _, ys = ss.simulate(system, X0, 6, np.random.default_rng(11))
     posts, smoothed = brute_force_filter_and_smoother(
-        system.A(0), system.B(0), system.C(0), system.W.lo, system.W.hi, system.V.lo, system.V.hi,
+        system.A_at(0), system.E_at(0), system.C_at(0), system.W.lo, system.W.hi, system.V.lo, system.V.hi,
         X0.lo, X0.hi, ys)
     oracle = TrajectoryOracle(system, X0, ys)
     f_lo, f_hi = oracle.filtered_hulls()
@@ -148,11 +148,11 @@ def test_generator_is_reproducible_and_covers_every_kind():
     assert [c.kind for c in a] == list(KINDS)
     for x, y in zip(a, b):
         np.testing.assert_array_equal(x.ys, y.ys)
-        np.testing.assert_array_equal(x.system.A(0), y.system.A(0))
-    rho = max(abs(np.linalg.eigvals(a[1].system.A(0))))
+        np.testing.assert_array_equal(x.system.A_at(0), y.system.A_at(0))
+    rho = max(abs(np.linalg.eigvals(a[1].system.A_at(0))))
     assert 1.02 <= rho <= 1.15
-    assert np.linalg.matrix_rank(a[2].system.A(0)) < a[2].system.n
-    assert np.linalg.matrix_rank(a[3].system.C(0)) < a[3].system.m
+    assert np.linalg.matrix_rank(a[2].system.A_at(0)) < a[2].system.n
+    assert np.linalg.matrix_rank(a[3].system.C_at(0)) < a[3].system.m
     assert a[4].system.q != a[4].system.m
     # drss is seeded through NumPy's global state, which must come back untouched.
     state = np.random.get_state()[1].copy()

@@ -54,7 +54,7 @@ class CountingBall(ss.ConvexSet):
 
 def _diamond_system(cz_form):
     sys31 = example_31()
-    return ss.LinearSystem(sys31.A(0), np.eye(2), sys31.C(0), sys31.D(0),
+    return ss.LinearSystem(sys31.A_at(0), None, sys31.C_at(0), F=sys31.F_at(0),
                            W=CountingDiamond([0.0, 0.0], 0.5, cz_form), V=sys31.V), smoothing_example_31_x0()
 
 

@@ -343,7 +343,7 @@ def test_the_rounding_of_the_noise_image_is_charged():
     B = np.array([[0.10490011715303971, -0.535669373161111, -0.13109099775757493],
                   [1.3040000451301372, 0.9470809631292422, -0.0606446583254687]])
     w = np.array([0.1257302210933933, -0.1321048632913019, 0.6404226504432821])
-    system = ss.LinearSystem(np.eye(2), B, np.eye(2), np.eye(2), W=ss.Box(w, w),
+    system = ss.LinearSystem(np.eye(2), None, np.eye(2), E=B, W=ss.Box(w, w),
                              V=ss.Box([-10.0, -10.0], [10.0, 10.0]))
     P = ss.classical_filter(system, ss.Box([0.0, 0.0], [0.0, 0.0]), np.zeros((2, 2)), form="polygon")[1]
     exact = [sum(Fraction(float(b)) * Fraction(float(x)) for b, x in zip(row, w)) for row in B]

@@ -168,7 +168,7 @@ def test_rounded_free_columns_are_charged_per_unit_of_the_free_factors():
     ‖ξ_F‖∞ and the certified hull, finite, encloses the closed-form interval (rationals)."""
     a = 0.7
     unit = ss.Box([-1.0], [1.0])
-    system = ss.LinearSystem([[a]], [[1.0]], [[1.0]], [[1.0]], W=unit, V=unit)
+    system = ss.LinearSystem([[a]], None, [[1.0]], W=unit, V=unit)
     ys = np.array([[0.3], [0.7], [-0.2], [0.1]])
     for i, k in [(0, 3), (1, 5), (0, 6)]:
         S = ss.observation_information_set(system, ys, k, i)
@@ -254,7 +254,7 @@ def _padded_joint_range():
 def test_the_optimal_filter_and_joint_range_restrictions_keep_the_range_s_rounding():
     J, lo, hi = _padded_joint_range()   # the stored centre is 0.0, the exact one −9.3e-9
     assert J.c[0] == 0.0 and J.pad is not None
-    system = ss.LinearSystem([[1.0]], [[1.0]], [[1.0]], [[1.0]], ss.Box([-1.0], [1.0]), ss.Box([-1.0], [1.0]))
+    system = ss.LinearSystem([[1.0]], None, [[1.0]], W=ss.Box([-1.0], [1.0]), V=ss.Box([-1.0], [1.0]))
     P = ss.optimal_filter(system, ss.JointRange(J, 1, 1, 1, 0), np.array([[0.0]]))[0]
     R = ss.JointRange(J, 1, 1, 1, 0)
     for S in (P, R.restrict([[0.0, 1.0]], [0.5]).set.project([0]),
@@ -345,7 +345,7 @@ def test_a_hand_written_recursion_keeps_its_certified_hull_at_the_solvers_value(
     rng = np.random.default_rng(2034)
     plant = random_observable_system(rng, n, n, n)
     box = ss.Box(-np.ones(n), np.ones(n))
-    system = ss.LinearSystem(plant.A, plant.B, plant.C, np.eye(n), W=box, V=box)
+    system = ss.LinearSystem(plant.A, None, plant.C, E=plant.B, W=box, V=box)
     X0 = ss.Box(-10 * np.ones(n), 10 * np.ones(n))
     xs, ys = ss.simulate(system, X0, T, rng)
     post = None

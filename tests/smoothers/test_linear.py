@@ -35,7 +35,7 @@ def test_filtered_and_smoothed_sets_equal_brute_force_polytopes():
         posts = ss.classical_filter(sys, X0, ys)
         smoothed = ss.optimal_smoother(sys, X0, ys, posteriors=posts)
         oracle_posts, oracle_smoothed = brute_force_filter_and_smoother(
-            sys.A(0), sys.B(0), sys.C(0), [-1.0], [1.0], np.array([-1.0, -1.0]), np.array([1.0, 1.0]),
+            sys.A_at(0), sys.E_at(0), sys.C_at(0), [-1.0], [1.0], np.array([-1.0, -1.0]), np.array([1.0, 1.0]),
             x0_lo, x0_hi, ys)
         for ours, theirs in zip(posts + smoothed, oracle_posts + oracle_smoothed):
             expected = (theirs @ DIRECTIONS_2D.T).max(axis=0)
@@ -50,7 +50,7 @@ def test_smoother_is_exact_for_singular_transition_matrices():
     posts = ss.classical_filter(sys, X0, ys)
     smoothed = ss.optimal_smoother(sys, X0, ys, posteriors=posts)
     _, oracle = brute_force_filter_and_smoother(
-        sys.A(0), sys.B(0), sys.C(0), [-0.5], [0.5], np.array([-1.0]), np.array([1.0]),
+        sys.A_at(0), sys.E_at(0), sys.C_at(0), [-0.5], [0.5], np.array([-1.0]), np.array([1.0]),
         np.array([-2.0, -2.0]), np.array([2.0, 2.0]), ys)
     for ours, theirs in zip(smoothed, oracle):
         assert np.allclose(ours.support_many(DIRECTIONS_2D), (theirs @ DIRECTIONS_2D.T).max(axis=0),
@@ -63,7 +63,7 @@ def test_smoothing_step_on_czs_is_proposition_1():
     post = ss.Zonotope([[1.0, 0.2], [0.0, 0.7]], [0.1, 0.0]).to_constrained_zonotope()
     nxt = ss.ConstrainedZonotope([[0.5, 0.1, 0.0], [0.0, 0.3, 0.4]], [0.2, 0.1], A=[[1.0, 1.0, 0.5]], b=[0.3])
     S = smoothing_step(sys, 0, post, nxt)
-    Phi, Gamma = sys.A(0), sys.B(0)
+    Phi, Gamma = sys.A_at(0), sys.E_at(0)
     Gw = np.array([[1.0]])
     assert np.allclose(np.asarray(S.G), np.hstack([post.G, np.zeros((2, 4))]))
     expected_A = np.zeros((3, 6))
@@ -103,8 +103,8 @@ def test_auto_takes_the_trajectory_form_for_cz_sets_and_gives_the_recursion_sets
 
 def test_auto_takes_the_trajectory_form_when_a_noise_has_no_cz_form():
     base = example_31()
-    sys = ss.LinearSystem(base.A(0), base.B(0), base.C(0), base.D(0), W=ss.Ellipsoid([0.0], [[1.0]]),
-                          V=base.V)
+    sys = ss.LinearSystem(base.A_at(0), None, base.C_at(0), E=base.E_at(0), F=base.F_at(0),
+                          W=ss.Ellipsoid([0.0], [[1.0]]), V=base.V)
     X0 = ss.Box([-3, -3], [3, 3])
     xs, ys = ss.simulate(sys, X0, 3, np.random.default_rng(2))
     auto = ss.optimal_smoother(sys, X0, ys)

@@ -22,7 +22,7 @@ def random_system(rng: np.random.Generator) -> ss.LinearSystem:
     A = rng.standard_normal((n, n))
     A *= rng.uniform(0.7, 1.15) / max(abs(np.linalg.eigvals(A)))
     D = rng.standard_normal((m, m)) * 0.3 + np.eye(m)
-    return ss.LinearSystem(A, rng.standard_normal((n, p)), rng.standard_normal((m, n)), D,
+    return ss.LinearSystem(A, None, rng.standard_normal((m, n)), E=rng.standard_normal((n, p)), F=D,
                            W=ss.Box(-np.ones(p), np.ones(p)), V=ss.Box(-np.ones(m), np.ones(m)))
 
 
@@ -46,8 +46,8 @@ def test_certified_trajectory_bounds_are_never_below_a_feasible_witness(seed):
     T = int(rng.integers(20, 40))
     x, ys = rng.uniform(-1, 1, system.n), []
     for k in range(T + 1):
-        ys.append(system.C(k) @ x + system.D(k) @ rng.uniform(-1, 1, system.m))
-        x = system.A(k) @ x + system.B(k) @ rng.uniform(-1, 1, system.B(k).shape[1])
+        ys.append(system.C_at(k) @ x + system.F_at(k) @ rng.uniform(-1, 1, system.m))
+        x = system.A_at(k) @ x + system.E_at(k) @ rng.uniform(-1, 1, system.E_at(k).shape[1])
     Z = trajectory_set(system, ss.Box(-np.ones(system.n), np.ones(system.n)), np.array(ys))
     D = np.vstack([np.eye(Z.dim)[rng.choice(Z.dim, 4, replace=False)],
                    rng.standard_normal((4, Z.dim))])

@@ -42,8 +42,7 @@ def test_a_queried_cz_pickles_and_answers_the_same_after():
 
 
 def test_solver_instances_stay_bounded_over_a_400_step_filter():
-    system = ss.LinearSystem([[0.9]], [[1.0]], [[1.0]], [[1.0]], W=ss.Box([-0.1], [0.1]),
-                             V=ss.Box([-0.5], [0.5]))
+    system = ss.LinearSystem([[0.9]], None, [[1.0]], W=ss.Box([-0.1], [0.1]), V=ss.Box([-0.5], [0.5]))
     rng = np.random.default_rng(1)
     x, ys = 0.0, []
     for _ in range(400):

@@ -161,6 +161,5 @@ def empty_support(model: LSUModel, ys: np.ndarray, us: np.ndarray, supports: lis
 def _support_system(model: LSUModel, us: np.ndarray) -> LinearSystem:
     """The LSU model as the library's `LinearSystem` on supports: x_{k+1} ∈ A x_k + 𝕎 + {B u_k},
     y_k ∈ C x_k + 𝕍 (k = t − 1)."""
-    n, m = model.n, model.m
-    u = us[:-1] @ model.B.T if len(us) > 1 else None
-    return LinearSystem(model.A, np.eye(n), model.C, np.eye(m), model.W, model.V, u=u)
+    u = us[:-1] if len(us) > 1 else None
+    return LinearSystem(model.A, None if u is None else model.B, model.C, W=model.W, V=model.V, u=u)
