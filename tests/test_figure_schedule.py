@@ -125,3 +125,10 @@ def test_scheduled_scripts_run_in_their_own_processes_longest_first_and_after_wh
     serial = montecarlo.run(_trial, 4, 0, executor="serial", progress=False)
     assert json.loads((out / "demo_reads.json").read_text()) == serial     # seeds do not depend on processes
     assert any(line.startswith("== demo_reads") and "first run" in line for line in lines)
+
+
+def test_a_call_records_the_cpu_seconds_of_its_scripts_in_the_format_the_order_reads(tmp_path):
+    (tmp_path / "fig_a.json").write_text(json.dumps({"rows": [], "cpu_time_s": 12.345}))
+    (tmp_path / "fig_b.json").write_text(json.dumps({"rows": [], "cpu_time_s": None}))   # Windows: unknown
+    schedule.record_costs(tmp_path, ["fig_a", "fig_b", "fig_failed"], None)
+    assert schedule.read_costs(tmp_path) == {"fig_a": 12.3}

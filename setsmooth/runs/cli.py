@@ -187,7 +187,7 @@ def _run_figures(names, figures_dir, out, runs, seed, workers, progress, executo
         environment = {name: os.environ[name] for name in (FORMATS_ENV, *BLAS_ENV) if name in os.environ}
         outcome = run_scheduled(names, figures_dir, out, runs, seed, n_workers, progress, costs, after,
                                 environment, blas_threads)
-        return outcome, _report(figures_dir, out)
+        return outcome, _report(figures_dir, out, names, runs)
     if str(figures_dir) not in sys.path:
         # The scripts import their sibling helpers, and pool workers unpickle trials by module name.
         sys.path.insert(0, str(figures_dir))
@@ -213,10 +213,13 @@ def _run_figures(names, figures_dir, out, runs, seed, workers, progress, executo
         for row in result.get("rows", []):
             print(f"   {row['quantity']}: paper {row['paper']} | ours {row['ours']}")
         print(f"   {outcome[name]:.1f} s", flush=True)
-    return outcome, _report(figures_dir, out)
+    return outcome, _report(figures_dir, out, names, runs)
 
 
-def _report(figures_dir: Path, out: Path) -> Path:
+def _report(figures_dir: Path, out: Path, names: list[str], runs: int | None) -> Path:
+    from .schedule import record_costs
+
+    record_costs(out, names, runs)
     if str(figures_dir) not in sys.path:
         sys.path.insert(0, str(figures_dir))
     return importlib.import_module(REPORT_MODULE).main(out)

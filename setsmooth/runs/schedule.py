@@ -31,6 +31,25 @@ def read_costs(figures_dir: Path) -> dict[str, float]:
     return {name: float(value) for name, value in json.loads(path.read_text())["cpu_seconds"].items()}
 
 
+def record_costs(out: Path, names: list[str], runs: int | None) -> Path:
+    """Write ``<out>/costs.json``: the CPU seconds each script recorded in its JSON (``cpu_time_s``) in
+    this call, in the format of `read_costs` (copy it over ``paper_figures/costs.json`` after a run at
+    the default size, ``runs`` None, to refresh the order)."""
+    measured = {}
+    for name in names:
+        path = Path(out) / f"{name}.json"
+        if path.is_file():
+            cpu = json.loads(path.read_text()).get("cpu_time_s")
+            if isinstance(cpu, (int, float)):
+                measured[name] = round(float(cpu), 1)
+    target = Path(out) / COSTS_FILE
+    target.write_text(json.dumps({"note": "CPU seconds of each script (its process and its Monte Carlo "
+                                          "workers) in the last setsmooth figures call, recorded by it",
+                                  "runs": runs if runs is not None else "default",
+                                  "cpu_seconds": measured}, indent=1) + "\n")
+    return target
+
+
 def read_after(figures_dir: Path, names: list[str]) -> dict[str, tuple[str, ...]]:
     """Each script's ``AFTER`` tuple (the scripts whose outputs it reads), from its source."""
     return {name: _after(Path(figures_dir) / f"{name}.py") for name in names}
