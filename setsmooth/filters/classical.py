@@ -22,6 +22,7 @@ from ..sets.base import ConvexSet
 from ..sets.empty import EmptySet
 from ..sets.reduction import apply_methods, as_methods
 from .consistency import ON_INCONSISTENT, first_inconsistency, report_inconsistency
+from .hulls_along_time import filtered_hulls
 
 #: The forms of the exact filter's CZ posteriors (``form=``). 'views': the last projections of one
 #: sparse trajectory CZ (`setsmooth.trajectories.posterior_views`), O(T) memory for a data set, and the
@@ -132,7 +133,8 @@ def _filtered(system, X0: ConvexSet, ys: np.ndarray, reduce: Any, detect_empty: 
         return SetEstimates(polygon_posteriors(system, X0, ys), system=system, X0=X0, ys=ys,
                             kind="filtered")
     posteriors: list[ConvexSet] | None = None
-    if any(S._flat_cz is None for S in (X0, system.W, system.V)):
+    cz_form = all(S._flat_cz is not None for S in (X0, system.W, system.V))
+    if not cz_form:
         # Without a CZ form the recursion's sets nest O(k) deep, one CVXPY compilation per query:
         # the same posteriors as projections of one compiled trajectory program (bounded states).
         from ..trajectories.generic_program import filtered_ranges
@@ -165,9 +167,23 @@ def _filtered(system, X0: ConvexSet, ys: np.ndarray, reduce: Any, detect_empty: 
         if deviations is not None:
             deviations[first:] = posteriors[first:]
     result = SetEstimates(posteriors, system=system, X0=X0, ys=ys, kind="filtered")
+    if cz_form:
+        result._along_time = _AlongTime(system, X0, ys, result)
     if deviations is not None:
         result._recursion_deviations = RecursionDeviations(form_about, deviations, result)
     return result
+
+
+class _AlongTime:
+    """The exact posteriors' hulls along time (`hulls_along_time.filtered_hulls`), valid for a
+    result that holds ``sets``, the estimator's own, in order."""
+
+    def __init__(self, system, X0: ConvexSet, ys: np.ndarray, result: list):
+        self.system, self.X0, self.ys = system, X0, ys
+        self.sets = tuple(result)
+
+    def __call__(self, *, certified: bool, progress: bool) -> list[ConvexSet]:
+        return filtered_hulls(self.system, self.X0, self.ys, certified=certified, progress=progress)
 
 
 def _recursion(system, X0: ConvexSet, ys: np.ndarray) -> list[ConvexSet]:

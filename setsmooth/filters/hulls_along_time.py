@@ -14,7 +14,8 @@ the lower end is attained by a point of F_{k,i}(I_i). When the bracket is narrow
 the hull's width along every axis, the step is settled: its certified hull is the upper ends and its
 plain hull the lower ends (exact to that relative width). Otherwise the window doubles, down to i = 0
 where F_{k,0}(X0) is P_k itself: the answer is then the full program's, as `SetEstimates.interval_hulls`
-gives it. So the result never depends on the window except through its cost.
+gives it, and so do the first steps, where that program is the cheaper one (`WINDOW_FACTOR`). So
+the result never depends on the window except through its cost.
 
 For a detectable system the priors' influence on x_k fades geometrically with k − i, and a window of a
 few dozen steps closes the bracket at every k: the cost per step is flat. For a system whose data do
@@ -34,7 +35,7 @@ from ..sets.constrained_zonotope import ConstrainedZonotope
 from ..sets.empty import EmptySet
 from ..trajectories.sparse_cz import filtering_map
 
-__all__ = ["GAP_TOL", "FIRST_WINDOW", "filtered_hulls"]
+__all__ = ["GAP_TOL", "FIRST_WINDOW", "WINDOW_FACTOR", "filtered_hulls"]
 
 #: The bracket (certified upper end minus inner lower end) accepted, relative to the hull's width
 #: along the axis: an order below the 1e-6 of a width that the hulls are held to.
@@ -43,6 +44,13 @@ GAP_TOL = 1e-7
 #: The window length k − i tried first; a step whose bracket does not close doubles it, and the
 #: next step starts from the length that closed.
 FIRST_WINDOW = 8
+
+#: Windows are used at step k only when k ≥ WINDOW_FACTOR × the window length; earlier steps solve
+#: the posterior's own program, which is cheaper there. A step's two window programs cost about as
+#: much as the full program of k ≈ 50 (4 states) to 175 (2 states, example (31)) steps at a window
+#: of 8: the programs' fixed costs (presolve, certificate) dominate both
+#: (``benchmarks/bench_hulls_along_time.py``). The choice depends on k alone, never on time.
+WINDOW_FACTOR = 12
 
 
 class _Step:
@@ -107,7 +115,7 @@ def filtered_hulls(system, X0: ConvexSet, ys: np.ndarray, *, certified: bool | N
     hulls: list[ConvexSet] = []
     length = FIRST_WINDOW
     show = sys.stderr.isatty() if progress is None else bool(progress)
-    for k in tqdm(range(T + 1), desc="filtered hulls", unit="step", disable=not show, leave=False):
+    for k in tqdm(range(T + 1), desc="interval hulls", unit="set", disable=not show, leave=False):
         if settled and settled[-1] is None:  # an empty posterior stays empty
             settled.append(None)
             hulls.append(EmptySet(n))
@@ -124,7 +132,7 @@ def filtered_hulls(system, X0: ConvexSet, ys: np.ndarray, *, certified: bool | N
 def _settle(system, X0, ys, k: int, D: np.ndarray, settled: list, length: int):
     """(the settled step k or None when P_k is empty, the window length that settled it)."""
     n = system.n
-    while k - length > 0:
+    while k >= WINDOW_FACTOR * length:
         i = k - length
         prior = settled[i]
         upper_values, _, upper = _solve(filtering_map(system, prior.outer(), ys, i, k), D)

@@ -10,6 +10,14 @@ from setsmooth.papers.smoothing_examples import smoothing_example_31, smoothing_
 from setsmooth.reliability.random_systems import base_case, in_regime
 
 
+@pytest.fixture(autouse=True)
+def windows_from_the_first_steps(monkeypatch):
+    """Windows of 4 steps from k = 8 on (the default waits until they are cheaper than the
+    posterior's own program): these short runs then test the brackets, not the crossover."""
+    monkeypatch.setattr(along, "FIRST_WINDOW", 4)
+    monkeypatch.setattr(along, "WINDOW_FACTOR", 2)
+
+
 def _bounds(hulls):
     return np.array([h.lo for h in hulls]), np.array([h.hi for h in hulls])
 
@@ -62,7 +70,7 @@ def test_windows_stay_short_on_a_detectable_system(monkeypatch):
     system, X0 = smoothing_example_31(), smoothing_example_31_x0()
     _, ys = ss.simulate(system, X0, 40, np.random.default_rng(5))
     filtered_hulls(system, X0, ys, progress=False)
-    assert max(lengths) <= 2 * along.FIRST_WINDOW
+    assert max(lengths) <= 4 * along.FIRST_WINDOW and lengths[-10:] == [lengths[-1]] * 10
 
 
 def test_an_unclosable_bracket_falls_back_to_the_posteriors_own_program(monkeypatch):
@@ -91,3 +99,24 @@ def test_contradicting_data_give_empty_hulls_from_the_first_empty_posterior():
 
 def test_gap_tolerance_is_below_the_accuracy_the_hulls_are_held_to():
     assert 0 < GAP_TOL <= 1e-7
+
+
+def test_a_filter_results_tubes_come_along_time_and_agree_with_each_sets_own_hull():
+    system, X0 = smoothing_example_31(), smoothing_example_31_x0()
+    xs, ys = ss.simulate(system, X0, 14, np.random.default_rng(8))
+    posteriors = ss.classical_filter(system, X0, ys)
+    lo, hi = posteriors.lo, posteriors.hi
+    assert set(posteriors._along_hulls) == {True}  # the tubes were computed along time
+    own_lo, own_hi = _bounds(_own_hulls(system, X0, ys)[True])
+    width = own_hi - own_lo
+    assert np.all(np.abs(lo - own_lo) <= 1e-6 * width) and np.all(np.abs(hi - own_hi) <= 1e-6 * width)
+    assert posteriors.contains_trajectory(xs).all() and np.all((lo <= xs) & (xs <= hi))
+
+
+def test_a_result_whose_sets_were_replaced_takes_each_sets_own_hull():
+    system, X0 = smoothing_example_31(), smoothing_example_31_x0()
+    _, ys = ss.simulate(system, X0, 10, np.random.default_rng(9))
+    posteriors = ss.classical_filter(system, X0, ys)
+    posteriors[4] = ss.Box([-1.0, -1.0], [1.0, 1.0])
+    assert posteriors.interval_hulls(progress=False)[4].hi.tolist() == [1.0, 1.0]
+    assert "_along_hulls" not in posteriors.__dict__ or not posteriors._along_hulls
