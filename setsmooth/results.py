@@ -15,7 +15,7 @@ from __future__ import annotations
 import sys
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Any, Protocol, runtime_checkable
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -26,7 +26,6 @@ from .tolerances import MEMBERSHIP_TOL
 __all__ = ["Estimates", "Tubes", "SetEstimates", "IntervalEstimates"]
 
 
-@runtime_checkable
 class Estimates(Protocol):
     """What every estimator returns, whatever else it carries.
 
@@ -35,6 +34,9 @@ class Estimates(Protocol):
     fields stay. ``lo`` and ``hi`` have shape (T+1, n) with NaN rows at empty steps; (T+1,) for the
     scalar `IntervalEstimates`, and `SampledRanges`, a batch of runs, puts a runs axis first in every
     member. Results holding sets also give the set at step k as ``result[k]``.
+
+    A static protocol (for type checkers): an ``isinstance`` check of a runtime protocol would read
+    ``lo`` and ``hi`` before Python 3.12, computing every hull.
     """
 
     @property
