@@ -13,6 +13,7 @@ import pytest
 
 import setsmooth as ss
 from setsmooth import arena
+from setsmooth.arena.estimators import check_estimators
 from setsmooth.runs import cli
 
 
@@ -130,3 +131,28 @@ def test_a_row_does_not_depend_on_the_other_problems_chosen():
     row = _row(alone, "reduced_girard")
     other = next(r for r in beside.rows if r["problem"] == "cz_noise")
     assert (row["mean_radius"], row["volume_ratio"]) == (other["mean_radius"], other["volume_ratio"])
+
+
+def test_heavy_estimators_and_problems_run_only_when_named():
+    default = check_estimators(None)
+    assert "recursion_smoother" not in default and "lsup" not in default and "exact_filter" in default
+    assert "random30" not in arena.problem_names() and "random30" in arena.problem_names(include_heavy=True)
+
+
+def test_the_hausdorff_gap_is_zero_for_the_exact_filter_and_positive_for_its_interval_hulls(small):
+    assert _row(small, "exact_filter")["hausdorff_gap"] == 0.0
+    assert _row(small, "interval_hull_filter")["hausdorff_gap"] > 1e-3    # the boxes reach past the polygons
+
+
+def test_the_lsu_filters_bound_the_exact_posterior_of_a_linear_system():
+    """The LSU model holds the system's noises in boxes, so LSU-CZ/LSUO/LSUP sets are outer bounds."""
+    result = arena.run_arena(["lsu41", "stability26"], ["lsu_cz", "lsuo", "lsup"], runs=1, seed=1,
+                             horizon=4, executor="serial", progress=False)
+    assert all(row["sound"] is True for row in result.rows), arena.markdown_table(result)
+
+
+def test_rethinking_30_draws_one_process_noise_for_every_step():
+    p = arena.make_problem("rethinking30", 4, horizon=6)
+    A = p.system.A_at(0)
+    pushes = p.xs[1:] - p.xs[:-1] @ A.T              # E w_k, k = 0..5
+    assert np.allclose(pushes, pushes[0], atol=1e-12) and np.abs(pushes[0]).max() > 0

@@ -3,12 +3,12 @@
 ``setsmooth arena --problems ... --estimators ... --runs N`` (or `run_arena`) runs every chosen
 estimator on every chosen problem over seeded Monte Carlo runs and reports, per pair, soundness (true
 states outside the estimator's hulls; containment of the exact estimator's hulls), tightness (mean
-radius, hull volume over the exact one's) and CPU time per step, as a JSON record, a markdown table and a
-figure. A new estimator enters with one call, ``register(name, fn)``. One module per job:
+radius, hull volume over the exact one's, Hausdorff distance to the exact sets on 2-D problems) and
+CPU time per step, as a JSON record, a markdown table and a figure. A new estimator enters with one call, ``register(name, fn)``. One module per job:
 
 * `problems`: the zoo (`PROBLEMS`, `make_problem`);
 * `estimators`: the registry (`register`, `ESTIMATORS`, `hull_tubes`);
-* `metrics`: soundness and tightness from interval hulls;
+* `metrics`: soundness and tightness from interval hulls, and the Hausdorff gap of 2-D sets;
 * `runner`: the Monte Carlo (`run_arena`);
 * `report`: table, JSON and figure (`write_outputs`);
 * `command`: the ``setsmooth arena`` subcommand.

@@ -11,18 +11,22 @@ import sys
 import time
 from pathlib import Path
 
-DEFAULT_RUNS = 10
+# 5 runs of every light problem and estimator: about 110 CPU-seconds, under a minute on 2 free cores
+# (measured 2026-11-28; docs/arena.md has the table).
+DEFAULT_RUNS = 5
 DEFAULT_OUT = Path("arena_out")
 
 DESCRIPTION = """\
 Compare estimators (and the set representations they use) on a zoo of problems over seeded Monte
 Carlo runs. Per (problem, estimator): true states outside the estimator's interval hulls, whether its
 hulls contain the exact estimator's (the exact filter for filters, the trajectory smoother for
-smoothers), the mean hull radius, the hull volume over the exact one's, and CPU time per step
-(estimator plus hulls). Writes DIR/arena.json, DIR/arena.md and DIR/arena.png (tightness against time,
-unsound entries in red) and prints the table. The exit status is 1 when an entry is unsound.
+smoothers), the mean hull radius, the hull volume over the exact one's, on 2-D problems the
+Hausdorff distance of the sets to the exact ones, and CPU time per step (estimator plus hulls).
+Writes DIR/arena.json, DIR/arena.md and DIR/arena.png (tightness against time, unsound entries in
+red) and prints the table. The exit status is 1 when an entry is unsound.
 
-Heavy problems (long_horizon) run only when named. Register your own estimator from Python with
+Heavy problems (random20, random30, long_horizon) and heavy estimators (recursion_smoother,
+lsup) run only when named. Register your own estimator from Python with
 setsmooth.arena.register(name, fn) and call setsmooth.arena.run_arena, or see
 examples/arena_new_representation.py."""
 
@@ -42,7 +46,7 @@ def add_parser(commands) -> argparse.ArgumentParser:
     parser.add_argument("--problems", nargs="+", metavar="NAME",
                         help="problems (default: every one not heavy); see --list")
     parser.add_argument("--estimators", nargs="+", metavar="NAME",
-                        help="estimators (default: every registered one); see --list")
+                        help="estimators (default: every registered one not heavy); see --list")
     parser.add_argument("--runs", type=int, default=DEFAULT_RUNS,
                         help=f"Monte Carlo runs (default {DEFAULT_RUNS})")
     parser.add_argument("--horizon", type=int, default=None, metavar="T",
@@ -78,7 +82,7 @@ def run(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
             print(f"  {name:<22} T = {spec.horizon:<5} {spec.summary}{' (heavy)' if spec.heavy else ''}")
         print("estimators:")
         for name, e in ESTIMATORS.items():
-            print(f"  {name:<22} {e.kind:<9} {e.summary}")
+            print(f"  {name:<22} {e.kind:<9} {e.summary}{' (heavy)' if e.heavy else ''}")
         return 0
     try:
         problems = check_problems(_names(args.problems), "--problems")

@@ -9,6 +9,7 @@ arena with one call::
 
 Each estimator states what it estimates (``kind``): ``'filtered'`` sets ⟦x_k | y_{0:k}⟧ are compared
 with the exact filter, ``'smoothed'`` sets ⟦x_k | y_{0:T}⟧ with the exact (trajectory) smoother.
+Heavy estimators (the recursion smoother, O(T²); LSUP, combinatorial in n) run only when named.
 
 For a process pool (and Dask) the estimator's function travels to the workers by pickling: a
 module-level function, or a `functools.partial` of one. A lambda or a local function runs with
@@ -24,24 +25,27 @@ from typing import Any
 import numpy as np
 
 from ..filters.classical import classical_filter
-from ..filters.oit import oit_cz_filter
-from ..sets.reduction import CORA_GIRARD
+from ..filters.lsu import LSUModel, lsu_cz_filter, lsuo_filter, lsup_filter
+from ..filters.oit import oit_cz_filter, oit_inspired_filter
+from ..sets.reduction import CORA_COMBASTEL, CORA_GIRARD
 from ..smoothers.linear import optimal_smoother
 
 __all__ = ["Estimator", "register", "unregister", "ESTIMATORS", "REFERENCES", "KINDS", "check_estimators",
-           "hull_tubes"]
+           "hull_tubes", "estimated_sets", "lsu_model"]
 
 KINDS = ("filtered", "smoothed")
 
 
 @dataclass(frozen=True)
 class Estimator:
-    """A registered estimator: its name, the callable, what it estimates, and a one-line summary."""
+    """A registered estimator: its name, the callable, what it estimates, a one-line summary, and
+    whether it is heavy (left out of the default selection)."""
 
     name: str
     fn: Callable[..., Any]
     kind: str = "filtered"
     summary: str = ""
+    heavy: bool = False
 
     def __call__(self, system, X0, ys):
         return self.fn(system, X0, ys)
@@ -67,6 +71,74 @@ def oit_cz(system, X0, ys):
     return oit_cz_filter(system, X0, ys, hulls=True)
 
 
+def recursion_smoother(system, X0, ys):
+    """The exact smoother by its recursion (smoothing paper Algorithm 1, (24)): O(T²) constraints."""
+    return optimal_smoother(system, X0, ys, method="recursion")
+
+
+def reduced_combastel(system, X0, ys):
+    """CORA's reduced CZ filter with Combastel's reduction (order 1) instead of Girard's: outer bounds."""
+    return classical_filter(system, X0, ys, reduce=CORA_COMBASTEL)
+
+
+def oit_inspired(system, X0, ys):
+    """The OIT-inspired filter (stability paper Algorithm 2), exact sets reset when empty."""
+    return oit_inspired_filter(system, X0, ys)
+
+
+_TINY = 1e-12
+
+
+def lsu_model(system, X0, ys) -> tuple[LSUModel, np.ndarray, np.ndarray]:
+    """The LSU model (LSU paper (4)–(6)) whose boxes hold this system's noise terms, with its data.
+
+    The LSU filters take x_{t+1} = A x_t + B u_t + w, y_t = C x_t + v with w, v in centred boxes and a
+    box prior. E·W and F·V are replaced by their interval hulls (centres moved into the known input and
+    the measurements; a zero half-width widened to 1e-12 at the coordinate's scale) and ⟦x_0⟧ by its
+    hull, so every set the LSU filters return bounds the system's exact posterior too. Constant matrices only (reading ``system.A`` raises otherwise).
+
+    Returns
+    -------
+    model : LSUModel
+    ys : ndarray, shape (T+1, m)
+        The measurements less the centre of F·V.
+    us : ndarray, shape (T+1, n)
+        The known term B_k u_k plus the centre of E·W (the LSU model's B is the identity).
+    """
+    A, C, E, F = system.A, system.C, system.E, system.F
+    W, V, prior = system.W.interval_hull(), system.V.interval_hull(), X0.interval_hull()
+    w_mid, w_half = E @ ((W.lo + W.hi) / 2), np.abs(E) @ ((W.hi - W.lo) / 2)
+    v_mid, v_half = F @ ((V.lo + V.hi) / 2), np.abs(F) @ ((V.hi - V.lo) / 2)
+    # the LSU model needs positive half-widths: a coordinate no noise reaches gets a rounding's width
+    w_half = np.maximum(w_half, _TINY * np.maximum(1.0, np.abs(w_mid)))
+    v_half = np.maximum(v_half, _TINY * np.maximum(1.0, np.abs(v_mid)))
+    ys = np.asarray(ys, dtype=float)
+    T = len(ys) - 1      # u_T drives no state of the horizon (and a system may not be given it)
+    us = np.array([(system.input_term(k) if k < T else 0.0) + w_mid for k in range(T + 1)])
+    model = LSUModel(A, np.eye(system.n), C, w_half, v_half, prior.lo, prior.hi)
+    return model, ys - v_mid, us
+
+
+def lsu_cz(system, X0, ys):
+    """LSU-CZ (LSU paper Algorithm 1, n_g = max(9, 3n), n_c = 2) on the system's LSU model: outer bounds."""
+    model, ys, us = lsu_model(system, X0, ys)
+    # the paper's n_g = 9 (at its n = 3), grown with n beyond that (n_g ≥ n + n_c is required)
+    return lsu_cz_filter(model, ys, us, max_generators=max(9, 3 * system.n), max_constraints=2,
+                         estimates=(), std=False)
+
+
+def lsuo(system, X0, ys):
+    """LSUO, the orthotopic LSU filter, on the system's LSU model: outer bounds (boxes)."""
+    model, ys, us = lsu_model(system, X0, ys)
+    return lsuo_filter(model, ys, us, std=False)
+
+
+def lsup(system, X0, ys):
+    """LSUP, the parallelotopic LSU filter (minimal volume), on the system's LSU model: outer bounds."""
+    model, ys, us = lsu_model(system, X0, ys)
+    return lsup_filter(model, ys, us, std=False)
+
+
 #: The registry, by name; built-ins first. `register` adds to it.
 ESTIMATORS: dict[str, Estimator] = {}
 
@@ -75,7 +147,7 @@ REFERENCES = {"filtered": "exact_filter", "smoothed": "trajectory_smoother"}
 
 
 def register(name: str, fn: Callable[..., Any], *, kind: str = "filtered", summary: str = "",
-             replace: bool = False) -> Estimator:
+             heavy: bool = False, replace: bool = False) -> Estimator:
     """Add an estimator to the arena under ``name``.
 
     Parameters
@@ -90,6 +162,8 @@ def register(name: str, fn: Callable[..., Any], *, kind: str = "filtered", summa
         smoother.
     summary : str
         One line for listings; the function's docstring's first line by default.
+    heavy : bool
+        Leave it out when no estimators are named (it runs when named).
     replace : bool
         Allow replacing an estimator already registered under ``name``.
 
@@ -115,7 +189,7 @@ def register(name: str, fn: Callable[..., Any], *, kind: str = "filtered", summa
                          "replace it, or choose another name")
     if not summary:
         summary = ((getattr(fn, "__doc__", None) or "").strip().splitlines() or [""])[0]
-    estimator = Estimator(name, fn, kind, summary)
+    estimator = Estimator(name, fn, kind, summary, bool(heavy))
     ESTIMATORS[name] = estimator
     return estimator
 
@@ -141,14 +215,15 @@ def unregister(name: str) -> None:
 
 
 def check_estimators(names: Any, argument: str = "estimators") -> list[str]:
-    """Validate estimator names; None gives every registered estimator.
+    """Validate estimator names; None gives every registered estimator that is not heavy.
 
     Raises
     ------
     ValueError
         For an unknown name, naming ``argument`` and the valid choices.
     """
-    return chosen_names(names, ESTIMATORS, list(ESTIMATORS), argument, "estimator")
+    default = [name for name, e in ESTIMATORS.items() if not e.heavy]
+    return chosen_names(names, ESTIMATORS, default, argument, "estimator")
 
 
 def hull_tubes(estimates: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -164,7 +239,7 @@ def hull_tubes(estimates: Any) -> tuple[np.ndarray, np.ndarray]:
         return _tubes(*hulls)
     if hasattr(estimates, "lo") and hasattr(estimates, "hi"):
         return _tubes(estimates.lo, estimates.hi)
-    sets = getattr(estimates, "estimates", estimates)     # an OITResult without hulls: its sets
+    sets = estimated_sets(estimates)
     try:
         boxes = [S.interval_hull() for S in sets]
     except (AttributeError, TypeError) as exc:
@@ -175,6 +250,16 @@ def hull_tubes(estimates: Any) -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
+def estimated_sets(estimates: Any) -> Any:
+    """The sets of an estimator's output: an LSU result's supports, an OIT result's estimates, or
+    the output itself (a list of sets, `SetEstimates`); tubes only (``lo``/``hi``) give themselves."""
+    for attribute in ("supports", "estimates"):
+        sets = getattr(estimates, attribute, None)
+        if isinstance(sets, (list, tuple)):
+            return sets
+    return estimates
+
+
 def _tubes(lo: Any, hi: Any) -> tuple[np.ndarray, np.ndarray]:
     lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
     if lo.ndim == 1:       # a scalar state (IntervalEstimates)
@@ -182,8 +267,14 @@ def _tubes(lo: Any, hi: Any) -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
-for _name, _fn, _kind in (("exact_filter", exact_filter, "filtered"),
-                          ("trajectory_smoother", trajectory_smoother, "smoothed"),
-                          ("reduced_girard", reduced_girard, "filtered"),
-                          ("oit_cz", oit_cz, "filtered")):
-    register(_name, _fn, kind=_kind)
+for _name, _fn, _kind, _heavy in (("exact_filter", exact_filter, "filtered", False),
+                                  ("trajectory_smoother", trajectory_smoother, "smoothed", False),
+                                  ("recursion_smoother", recursion_smoother, "smoothed", True),
+                                  ("reduced_girard", reduced_girard, "filtered", False),
+                                  ("reduced_combastel", reduced_combastel, "filtered", False),
+                                  ("oit_cz", oit_cz, "filtered", False),
+                                  ("oit_inspired", oit_inspired, "filtered", False),
+                                  ("lsu_cz", lsu_cz, "filtered", False),
+                                  ("lsuo", lsuo, "filtered", False),
+                                  ("lsup", lsup, "filtered", True)):
+    register(_name, _fn, kind=_kind, heavy=_heavy)

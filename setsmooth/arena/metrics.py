@@ -10,15 +10,19 @@ containment at every step).
 
 Tightness: the mean radius (half-width of the hull, averaged over steps and coordinates) and the
 hull-volume ratio to the reference, the geometric mean over steps of ∏_i width_i / ∏_i width_ref,i
-(1 for the reference itself, ≥ 1 for a sound estimator).
+(1 for the reference itself, ≥ 1 for a sound estimator). On 2-D problems also the Hausdorff gap, the
+distance of the sets themselves to the exact ones (`hausdorff_gap`), which sees what a hull hides: a
+set whose hull is the exact hull's can still be larger than the exact set.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from ..analysis.hausdorff import hausdorff_distance
+
 __all__ = ["TRUTH_ATOL", "CONTAINMENT_RTOL", "CONTAINMENT_ATOL", "truth_outside", "containment_gap",
-           "contains_reference", "mean_radius", "volume_ratio"]
+           "contains_reference", "mean_radius", "volume_ratio", "hausdorff_gap"]
 
 #: A true state counts as inside a hull when it is at most this far outside, times max(1, |x_k,i|):
 #: certified hulls are outer already, so this only absorbs the rounding of the simulated states.
@@ -83,3 +87,14 @@ def volume_ratio(lo, hi, ref_lo, ref_hi) -> float:
     with np.errstate(divide="ignore"):
         logs = np.sum(np.log(width[usable]) - np.log(ref_width[usable]), axis=1)
     return float(np.exp(np.mean(logs)))
+
+
+def hausdorff_gap(S, exact) -> float:
+    """d_H(S, exact) in the 2-norm (stability paper (10)) of a 2-D set and the exact one at one step.
+
+    Exact for polygons up to the solver's accuracy, not certified: `analysis.hausdorff_distance`
+    measures each vertex's distance to the other polygon in closed form, and the vertices are the
+    support points `vertices_2d` finds (a curved set's polygon is refined to the vertex tolerance).
+    ``inf`` when exactly one of the sets is empty.
+    """
+    return hausdorff_distance(S, exact, 2)

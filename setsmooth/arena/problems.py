@@ -3,10 +3,12 @@
 Every problem is a function ``(rng, horizon=None) -> Problem``: it draws whatever is random (the
 system, for the random ones, then the true trajectory and its measurements) from the one
 `numpy.random.Generator` it is given, so a seed fixes the whole problem. The data are simulated with
-the noises drawn uniformly from their ranges (`setsmooth.simulate`), so the true states are
-consistent with the model and every sound estimator must contain them.
+the noises drawn uniformly from their ranges (`setsmooth.simulate`; rethinking (30) draws one w for
+every step), so the true states are consistent with the model and every sound estimator must contain
+them.
 
-Heavy problems (the long horizon) are left out of the default selection; name them to run them.
+Heavy problems (random20, random30, the long horizon) are left out of the default selection; name them
+to run them.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ import numpy as np
 from .._validation import as_generator
 from ..analysis.random_systems import random_observable_system
 from ..models.systems import LinearSystem, simulate
+from ..papers.rethinking_examples import rethinking_example_30, rethinking_example_30_x0
 from ..papers.smoothing_examples import smoothing_example_31, smoothing_example_31_x0
 from ..sets.base import ConvexSet
 from ..sets.box import Box
@@ -63,6 +66,8 @@ class ProblemSpec:
     horizon: int
     summary: str
     heavy: bool = False
+    #: (system, X0, T, rng) -> (xs, ys) when the data are not `simulate`'s independent uniform draws.
+    draw: Callable[..., tuple[np.ndarray, np.ndarray]] | None = None
 
 
 def _example_31(rng: np.random.Generator, T: int) -> tuple[LinearSystem, ConvexSet]:
@@ -101,10 +106,50 @@ def _cz_noise(rng: np.random.Generator, T: int) -> tuple[LinearSystem, ConvexSet
     return drawn.linear_system(W=W, V=V), Box(-5.0 * np.ones(3), 5.0 * np.ones(3))
 
 
-def _stability_random_10(rng: np.random.Generator, T: int) -> tuple[LinearSystem, ConvexSet]:
-    # Stability paper Table 1's setting at n = p = m = 10: W = [−1, 1]^p, V = [−1, 1]^m, ⟦x_0⟧ = [−10, 10]ⁿ.
-    drawn = random_observable_system(rng, 10, 10, 10)
-    return drawn.linear_system(), Box(-10.0 * np.ones(10), 10.0 * np.ones(10))
+def _stability_example(A: list, C: list) -> LinearSystem:
+    # Stability paper (25)–(26): E = [0.5, 1]ᵀ, W = V = [−1, 1].
+    unit = Box([-1.0], [1.0])
+    return LinearSystem(A, None, C, E=[[0.5], [1.0]], W=unit, V=unit)
+
+
+def _stability_25(rng: np.random.Generator, T: int) -> tuple[LinearSystem, ConvexSet]:
+    # Observable. ⟦x_0⟧ = [0, 4]², designer Alice's of Figs. 2–3 (it holds the true set [1, 3]²).
+    return _stability_example([[1.0, 1.0], [0.0, 1.0]], [[1.0, 0.0]]), Box([0.0, 0.0], [4.0, 4.0])
+
+
+def _stability_26(rng: np.random.Generator, T: int) -> tuple[LinearSystem, ConvexSet]:
+    # Detectable, not observable: x_1's range shrinks only through the stable part.
+    return _stability_example([[0.5, 1.0], [0.0, 1.0]], [[0.0, 1.0]]), Box([0.0, 0.0], [4.0, 4.0])
+
+
+def _stability_random(n: int) -> Callable[[np.random.Generator, int], tuple[LinearSystem, ConvexSet]]:
+    def build(rng: np.random.Generator, T: int) -> tuple[LinearSystem, ConvexSet]:
+        # Stability paper Table 1's setting at n = p = m: W = [−1, 1]^p, V = [−1, 1]^m, ⟦x_0⟧ = [−10, 10]ⁿ.
+        drawn = random_observable_system(rng, n, n, n)
+        return drawn.linear_system(), Box(-10.0 * np.ones(n), 10.0 * np.ones(n))
+    return build
+
+
+def _lsu_section_41(rng: np.random.Generator, T: int) -> tuple[LinearSystem, ConvexSet]:
+    # LSU paper Section 4.1 as printed (A, B, C; ω = 1e−4), v = 0.1 (K = 1), u_k ~ N(0, 1) known,
+    # and the prior box [−1, 1]³ of paper_figures/_lsu_examples.py.
+    A = [[1.0, -0.5, 0.2], [0.5, 0.1, 0.0], [0.3, 0.0, -0.1]]
+    B, C = [[0.1], [0.6], [0.3]], [[1.0, 0.0, 0.5], [0.0, 1.0, 0.5]]
+    us = rng.standard_normal((max(T, 1), 1))
+    system = LinearSystem(A, B, C, W=Box(-1e-4 * np.ones(3), 1e-4 * np.ones(3)),
+                          V=Box([-0.1, -0.1], [0.1, 0.1]), u=us)
+    return system, Box(-np.ones(3), np.ones(3))
+
+
+def _rethinking_30(rng: np.random.Generator, T: int) -> tuple[LinearSystem, ConvexSet]:
+    return rethinking_example_30(), rethinking_example_30_x0()
+
+
+def _one_process_noise(system: LinearSystem, X0: ConvexSet, T: int, rng: np.random.Generator
+                       ) -> tuple[np.ndarray, np.ndarray]:
+    # Rethinking paper Section IV-B: one w for every step (w_k = w), which the classical model allows.
+    w = system.W.sample(rng, 1)[0]
+    return simulate(system, X0, T, rng, ws=np.tile(w, (T, 1)))
 
 
 #: The zoo, by name. Default horizons keep one run of every estimator on every light problem to seconds.
@@ -114,8 +159,15 @@ PROBLEMS: dict[str, ProblemSpec] = {
         _mass_spring_damper, 20, "python-control mass-spring-damper, sampled soundly (Δ = 0.25 s)"),
     "thin_noise": ProblemSpec(_thin_noise, 20, "example (31) with noise half-widths 1e-5"),
     "cz_noise": ProblemSpec(_cz_noise, 20, "random stable n = 3 system, triangle-CZ process noise"),
-    "random10": ProblemSpec(_stability_random_10, 10,
+    "random10": ProblemSpec(_stability_random(10), 10,
                             "stability paper random observable system, n = p = m = 10"),
+    "stability25": ProblemSpec(_stability_25, 20, "stability paper example (25), observable, ⟦x_0⟧ = [0, 4]²"),
+    "stability26": ProblemSpec(_stability_26, 20, "stability paper example (26), detectable, ⟦x_0⟧ = [0, 4]²"),
+    "rethinking30": ProblemSpec(_rethinking_30, 10, "rethinking paper example (30): one constant w",
+                                draw=_one_process_noise),
+    "lsu41": ProblemSpec(_lsu_section_41, 20, "LSU paper Section 4.1 (n = 3, known input, ω = 1e−4)"),
+    "random20": ProblemSpec(_stability_random(20), 10, "as random10 at n = 20", heavy=True),
+    "random30": ProblemSpec(_stability_random(30), 10, "as random10 at n = 30", heavy=True),
     "long_horizon": ProblemSpec(_example_31, 1000, "example (31) over T = 1000 steps", heavy=True),
 }
 
@@ -164,5 +216,5 @@ def make_problem(name: str, rng: Any, horizon: int | None = None) -> Problem:
         raise ValueError(f"horizon must be a non-negative integer, got {horizon!r}")
     rng = as_generator(rng)
     system, X0 = spec.build(rng, T)
-    xs, ys = simulate(system, X0, T, rng)
+    xs, ys = (spec.draw or simulate)(system, X0, T, rng)
     return Problem(name, system, X0, xs, ys, T)

@@ -16,7 +16,7 @@ from .runner import ArenaResult
 __all__ = ["markdown_table", "plot_arena", "write_outputs"]
 
 _COLUMNS = ("problem", "estimator", "runs", "truth outside", "contains exact", "mean radius",
-            "volume / exact", "CPU ms/step", "verdict")
+            "volume / exact", "d_H to exact", "CPU ms/step", "verdict")
 
 
 def markdown_table(result: ArenaResult) -> str:
@@ -26,13 +26,14 @@ def markdown_table(result: ArenaResult) -> str:
     lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
     for row in result.rows:
         if row["sound"] is None:
-            cells = [row["problem"], row["estimator"], "0", "", "", "", "", ""]
+            cells = [row["problem"], row["estimator"], "0", "", "", "", "", "", ""]
             cells += [""] if show_memory else []
             cells += [f"error: {_short(row['error'])}"]
         else:
             cells = [row["problem"], row["estimator"], str(row["runs"]),
                      f"{row['outside']}/{row['steps']}", _containment(row), _number(row["mean_radius"]),
-                     _number(row["volume_ratio"]), f"{row['cpu_ms_per_step']:.2f}"]
+                     _number(row["volume_ratio"]), _number(row["hausdorff_gap"]),
+                     f"{row['cpu_ms_per_step']:.2f}"]
             cells += [_number(row["peak_mib"])] if show_memory else []
             verdict = "sound" if row["sound"] else "**UNSOUND**"
             if row["errors"]:
@@ -44,7 +45,9 @@ def markdown_table(result: ArenaResult) -> str:
     lines.append(f"Reference (exact) per kind: {refs or 'none'}. 'contains exact': runs whose hulls "
                  f"contain the reference's at every step, up to {metrics.CONTAINMENT_RTOL:g} of its width "
                  f"+ {metrics.CONTAINMENT_ATOL:g}·max(1, |bound|) (largest shortfall in brackets, as a "
-                 "fraction of the width). CPU: estimator plus its interval hulls, per step.")
+                 "fraction of the width). 'd_H to exact' (2-D problems): Hausdorff distance (2-norm) "
+                 "of the sets to the reference's at k = T/2 and T, the larger, mean over runs. "
+                 "CPU: estimator plus its interval hulls, per step.")
     return "\n".join(lines)
 
 

@@ -6,7 +6,8 @@ other problems and estimators are chosen, so a table can be extended without cha
 
 Within a run, every estimator of a problem sees the same data, and its sets are compared with those of
 the exact estimator of its kind (`REFERENCES`), computed once per run even when it is not itself in the
-table.
+table. On 2-D problems the comparison includes the Hausdorff distance of the sets themselves at
+`gap_steps` (`setsmooth.arena.metrics.hausdorff_gap`).
 """
 
 from __future__ import annotations
@@ -20,12 +21,16 @@ from typing import Any
 
 import numpy as np
 
+from ..analysis.hausdorff import polytope_vertices
 from ..runs import montecarlo
+from ..sets.base import ConvexSet
+from ..sets.box import Box
+from ..sets.empty import EmptySet
 from . import metrics
-from .estimators import ESTIMATORS, REFERENCES, Estimator, check_estimators, hull_tubes
+from .estimators import ESTIMATORS, REFERENCES, Estimator, check_estimators, estimated_sets, hull_tubes
 from .problems import Problem, check_problems, make_problem
 
-__all__ = ["run_arena", "ArenaResult", "arena_trial", "measure"]
+__all__ = ["run_arena", "ArenaResult", "arena_trial", "measure", "gap_steps"]
 
 
 @dataclass
@@ -37,7 +42,8 @@ class ArenaResult:
     rows : list of dict
         Aggregated over runs (see `summarize`): ``problem``, ``estimator``, ``kind``, ``runs``,
         ``errors``, ``outside``, ``steps``, ``containment_failures``, ``containment_gap``,
-        ``mean_radius``, ``volume_ratio``, ``cpu_ms_per_step``, ``peak_mib``, ``sound``.
+        ``mean_radius``, ``volume_ratio``, ``hausdorff_gap`` (2-D problems), ``cpu_ms_per_step``,
+        ``peak_mib``, ``sound``.
     runs : list of dict
         Per run: problem -> estimator -> the metrics of `measure`.
     config : dict
@@ -67,7 +73,8 @@ def run_arena(problems: Any = None, estimators: Any = None, runs: int = 3, seed:
     problems : sequence of str, optional
         Names from `setsmooth.arena.PROBLEMS`; default every problem not marked heavy.
     estimators : sequence of str, optional
-        Names from `setsmooth.arena.ESTIMATORS` (built-ins and those added with `register`); default all.
+        Names from `setsmooth.arena.ESTIMATORS` (built-ins and those added with `register`); default
+        every one not marked heavy.
     runs : int
         Monte Carlo runs (each draws new data, and a new system for the random problems).
     seed : int or numpy.random.Generator
@@ -117,12 +124,23 @@ def arena_trial(rng: np.random.Generator, problems: tuple[str, ...], estimators:
     for name in problems:
         problem = make_problem(name, _problem_generator(rng, name), horizon)
         outputs = {e.name: _run_estimator(e, problem, memory) for e in estimators}
-        tubes = {}
+        exact = {}
         for kind, reference in references.items():
             result = outputs.get(reference.name) or _run_estimator(reference, problem, False)
-            tubes[kind] = None if "error" in result else (result["lo"], result["hi"])
-        out[name] = {e.name: measure(outputs[e.name], problem, tubes.get(e.kind)) for e in estimators}
+            if "error" in result:
+                continue
+            exact[kind] = dict(result, source=result)
+            if problem.xs.shape[1] == 2:       # the exact polygons, once for every estimator of the kind
+                exact[kind]["polygons"] = {k: _polygon(_set_at(result, k))
+                                           for k in gap_steps(problem.horizon)}
+        out[name] = {e.name: measure(outputs[e.name], problem, exact.get(e.kind)) for e in estimators}
     return out
+
+
+def gap_steps(horizon: int) -> list[int]:
+    """The steps whose sets the Hausdorff gap compares: the middle of the horizon and its end (where
+    a filter is judged; a smoother's sets are tightest away from the end)."""
+    return sorted({horizon // 2, horizon})
 
 
 def _problem_generator(rng: np.random.Generator, name: str) -> np.random.Generator:
@@ -152,11 +170,41 @@ def _run_estimator(estimator: Estimator, problem: Problem, memory: bool) -> dict
     if lo.shape != problem.xs.shape or hi.shape != problem.xs.shape:
         return {"error": f"hull tubes of shape {lo.shape}, expected {problem.xs.shape} (T+1, n)"}
     return {"lo": lo, "hi": hi, "cpu_step": t1 - t0, "cpu_hull": t2 - t1,
-            "peak_mib": None if peak is None else peak / 2 ** 20}
+            "peak_mib": None if peak is None else peak / 2 ** 20, "estimates": estimates}
 
 
-def measure(result: dict, problem: Problem, reference: tuple[np.ndarray, np.ndarray] | None) -> dict:
-    """Metrics of one estimator's output on one problem (`setsmooth.arena.metrics`)."""
+def _set_at(result: dict, k: int) -> ConvexSet:
+    """The estimator's set at step k: its own, or its hull box when it gave tubes only."""
+    sets = estimated_sets(result["estimates"])
+    try:
+        S = sets[k]
+    except (TypeError, IndexError, KeyError):
+        S = None
+    if isinstance(S, ConvexSet):
+        return S
+    lo, hi = result["lo"][k], result["hi"][k]
+    return EmptySet(lo.size) if np.isnan(lo).any() or np.isnan(hi).any() else Box(lo, hi)
+
+
+def _polygon(S: ConvexSet) -> np.ndarray:
+    """The vertices of a 2-D set, counter-clockwise; none for the empty set."""
+    return np.zeros((0, 2)) if S.is_empty() else polytope_vertices(S)
+
+
+def _hausdorff(S: ConvexSet, exact: np.ndarray) -> float:
+    try:
+        return metrics.hausdorff_gap(S, exact)
+    except ValueError:      # an unbounded set (vertices_2d refuses it): infinitely far from the exact one
+        return float("inf")
+
+
+def measure(result: dict, problem: Problem, reference: dict | None) -> dict:
+    """Metrics of one estimator's output on one problem (`setsmooth.arena.metrics`).
+
+    ``reference`` is the exact estimator's output (as `_run_estimator` gives it) with ``source``, that
+    output itself, and on 2-D problems ``polygons``, its sets' vertices at `gap_steps`; None when no
+    exact estimator of the kind ran.
+    """
     if "error" in result:
         return {"error": result["error"]}
     lo, hi = result["lo"], result["hi"]
@@ -164,11 +212,18 @@ def measure(result: dict, problem: Problem, reference: tuple[np.ndarray, np.ndar
            "mean_radius": metrics.mean_radius(lo, hi),
            "cpu_per_step": (result["cpu_step"] + result["cpu_hull"]) / (problem.horizon + 1),
            "hull_share": result["cpu_hull"] / max(result["cpu_step"] + result["cpu_hull"], 1e-12),
-           "peak_mib": result["peak_mib"], "contains": None, "gap": np.nan, "volume_ratio": np.nan}
+           "peak_mib": result["peak_mib"], "contains": None, "gap": np.nan, "volume_ratio": np.nan,
+           "hausdorff": np.nan}
     if reference is not None:
-        row["contains"] = metrics.contains_reference(lo, hi, *reference)
-        row["gap"] = metrics.containment_gap(lo, hi, *reference)
-        row["volume_ratio"] = metrics.volume_ratio(lo, hi, *reference)
+        ref = (reference["lo"], reference["hi"])
+        row["contains"] = metrics.contains_reference(lo, hi, *ref)
+        row["gap"] = metrics.containment_gap(lo, hi, *ref)
+        row["volume_ratio"] = metrics.volume_ratio(lo, hi, *ref)
+        if reference["source"] is result:      # the reference itself
+            row["hausdorff"] = 0.0 if "polygons" in reference else np.nan
+        elif "polygons" in reference:
+            row["hausdorff"] = max(_hausdorff(_set_at(result, k), reference["polygons"][k])
+                                   for k in gap_steps(problem.horizon))
     return row
 
 
@@ -198,6 +253,7 @@ def summarize(per_run: list[dict], problems: list[str], estimators: tuple[Estima
                     mean_radius=float(np.mean([r["mean_radius"] for r in ok])),
                     volume_ratio=(float(np.exp(np.mean(np.log(ratios)))) if np.all(ratios > 0)
                                   else float("nan")),
+                    hausdorff_gap=float(np.mean([r["hausdorff"] for r in ok])),
                     cpu_ms_per_step=1e3 * float(np.mean([r["cpu_per_step"] for r in ok])),
                     hull_share=float(np.mean([r["hull_share"] for r in ok])),
                     peak_mib=max(peaks) if peaks else None)
