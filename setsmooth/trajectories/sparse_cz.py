@@ -251,6 +251,7 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
     row += n
     # dynamics
     Gw = _dense(Zw.G)
+    residuals, charges = [], []  # per row block: the residual's terms and the products' charge
     for j in range(steps):
         k = start + j
         Bk, Ak, uk = system.E_at(k), system.A_at(k), system.input_term(k)
@@ -259,13 +260,12 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
         A.put(row, j * n, -Ak)
         A.put(row, col_w + j * Zw.ng, -(Bk @ Gw))
         rhs.append(np.zeros(n))
-        # x_{j+1} − A x_j − B G_w ξ_w − B e_w = A x̄_j + B c_w + u − x̄_{j+1}: the nominal's error,
-        # bounded as accurately as in twice the working precision.
-        nominal_error = rounding.residual_bound([(Ak, nominal[j]), (Bk, Zw.c), (np.ones(n), uk),
-                                                 (-np.ones(n), nominal[j + 1])])
+        # x_{j+1} − A x_j − E G_w ξ_w − E e_w = A x̄_j + E c_w + u − x̄_{j+1}: the nominal's error,
+        # bounded as accurately as in twice the working precision (all rows in one pass below).
+        residuals.append([(Ak, nominal[j]), (Bk, Zw.c), (np.ones(n), uk), (-np.ones(n), nominal[j + 1])])
         if Bw_charge is None or "E" in system.time_varying:
             Bw_charge = _product_charge(Bk, Gw, Zw)
-        slack.append(rounding.add(nominal_error, Bw_charge[0]))
+        charges.append(Bw_charge[0])
         slack_free.append(Bw_charge[1])
         row += n
     # measurements
@@ -276,13 +276,14 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
         A.put(row, j * n, Ck)
         A.put(row, col_v + j * Zv.ng, Dk @ Gv)
         rhs.append(ys[k] - Dk @ Zv.c - Ck @ nominal[j])
-        rhs_error = rounding.residual_bound([(np.ones(m), ys[k]), (-Dk, Zv.c), (-Ck, nominal[j]),
-                                             (-np.ones(m), rhs[-1])])
+        residuals.append([(np.ones(m), ys[k]), (-Dk, Zv.c), (-Ck, nominal[j]), (-np.ones(m), rhs[-1])])
         if Dv_charge is None or "F" in system.time_varying:
             Dv_charge = _product_charge(Dk, Gv, Zv)
-        slack.append(rounding.add(rhs_error, Dv_charge[0]))
+        charges.append(Dv_charge[0])
         slack_free.append(Dv_charge[1])
         row += m
+    slack.extend(rounding.add(error, charge)
+                 for error, charge in zip(rounding.residual_bounds(residuals), charges))
 
     A_matrix = A.to_csc((row, n_factors))
     b = np.concatenate(rhs)
