@@ -209,7 +209,7 @@ def oit_cz_filter(system, X0: ConvexSet, ys: Any, *, delta_bar: int | None = Non
     Parameters
     ----------
     system : LinearSystem
-        Time-invariant A, B, C, D; W and V with CZ forms. A known input term u is allowed.
+        Time-invariant A, C, E, F; W and V with CZ forms. A known input u is allowed (B, D may vary).
     X0 : ConvexSet
         Bounded initial condition with a CZ form.
     ys : array_like, shape (T+1, m)

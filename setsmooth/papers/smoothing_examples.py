@@ -38,7 +38,8 @@ def smoothing_example_31() -> LinearSystem:
     Returns
     -------
     LinearSystem
-        x_{k+1} = Φ x_k + Γ w_k, y_k = Ξ x_k + v_k with ⟦w_k⟧ = [−1, 1], ⟦v_k⟧ = [−1, 1]².
+        x_{k+1} = Φ x_k + Γ w_k, y_k = Ξ x_k + v_k with ⟦w_k⟧ = [−1, 1], ⟦v_k⟧ = [−1, 1]²: the
+        `LinearSystem` with A = Φ, E = Γ, C = Ξ (no known input, F = I).
 
     Examples
     --------
