@@ -33,7 +33,8 @@ from ..sets.base import ConvexSet
 from ..sets.box import Box
 from ..sets.constrained_zonotope import ConstrainedZonotope
 from ..sets.empty import EmptySet
-from ..trajectories.sparse_cz import filtering_map
+from .._validation import measured
+from ..trajectories.sparse_cz import window_posterior
 
 __all__ = ["GAP_TOL", "FIRST_WINDOW", "WINDOW_FACTOR", "filtered_hulls"]
 
@@ -66,8 +67,8 @@ class _Step:
         n = values.size // 2
         return Box(-values[n:], values[:n])
 
-    def outer(self) -> Box:
-        return self.box(self.upper)
+    def outer(self) -> ConstrainedZonotope:
+        return self.box(self.upper).to_constrained_zonotope()
 
     def inner(self) -> ConstrainedZonotope:
         """conv{p_1..p_r} = {m + Σ λ_j (p_j − m) : λ ≥ 0, Σ λ_j = 1} with λ = (1 + ξ)/2: the CZ
@@ -78,9 +79,9 @@ class _Step:
         return ConstrainedZonotope(((P - m) / 2).T, m, np.ones((1, r)), [2.0 - r])
 
 
-def _solve(S: ConvexSet, D: np.ndarray):
+def _solve(S: ConstrainedZonotope, D: np.ndarray):
     """(values, points, bounds or None) of the support of S along the rows of D, one set of solves."""
-    return S._flat_cz._program.support_points_and_bounds(D)
+    return S._program.support_points_and_bounds(D)
 
 
 def filtered_hulls(system, X0: ConvexSet, ys: np.ndarray, *, certified: bool | None = None,
@@ -109,7 +110,10 @@ def filtered_hulls(system, X0: ConvexSet, ys: np.ndarray, *, certified: bool | N
     """
     from tqdm.auto import tqdm
 
+    system, ys = measured(system, ys)
     n, T = system.n, ys.shape[0] - 1
+    forms = (X0.to_constrained_zonotope(), system.W.to_constrained_zonotope(),
+             system.V.to_constrained_zonotope())
     D = np.vstack([np.eye(n), -np.eye(n)])
     settled: list[_Step | None] = []
     hulls: list[ConvexSet] = []
@@ -120,7 +124,7 @@ def filtered_hulls(system, X0: ConvexSet, ys: np.ndarray, *, certified: bool | N
             settled.append(None)
             hulls.append(EmptySet(n))
             continue
-        step, length = _settle(system, X0, ys, k, D, settled, length)
+        step, length = _settle(system, forms, ys, k, D, settled, length)
         settled.append(step)
         if step is None:
             hulls.append(EmptySet(n))
@@ -129,23 +133,24 @@ def filtered_hulls(system, X0: ConvexSet, ys: np.ndarray, *, certified: bool | N
     return hulls
 
 
-def _settle(system, X0, ys, k: int, D: np.ndarray, settled: list, length: int):
-    """(the settled step k or None when P_k is empty, the window length that settled it)."""
-    n = system.n
+def _settle(system, forms: tuple, ys: np.ndarray, k: int, D: np.ndarray, settled: list, length: int):
+    """(the settled step k or None when P_k is empty, the window length that settled it); ``forms``
+    are the CZ forms of X0, W and V."""
+    n, (Z0, Zw, Zv) = system.n, forms
     while k >= WINDOW_FACTOR * length:
         i = k - length
         prior = settled[i]
-        upper_values, _, upper = _solve(filtering_map(system, prior.outer(), ys, i, k), D)
+        upper_values, _, upper = _solve(window_posterior(system, prior.outer(), Zw, Zv, ys, i, k), D)
         if np.isneginf(upper_values).any():
             return None, length  # an outer bound of P_k is empty: P_k is
-        inner_values, points, _ = _solve(filtering_map(system, prior.inner(), ys, i, k), D)
+        inner_values, points, _ = _solve(window_posterior(system, prior.inner(), Zw, Zv, ys, i, k), D)
         if upper is not None and np.all(np.isfinite(inner_values)):
             width = np.maximum(inner_values[:n] + inner_values[n:], 0.0)
             scale = np.concatenate([width, width])
             if np.all(upper - inner_values <= GAP_TOL * scale):
                 return _Step(upper, np.minimum(inner_values, upper), points), length
         length *= 2
-    values, points, upper = _solve(filtering_map(system, X0, ys, 0, k), D)
+    values, points, upper = _solve(window_posterior(system, Z0, Zw, Zv, ys, 0, k), D)
     if np.isneginf(values).any():
         return None, length
     return _Step(values if upper is None else upper, values, points), length

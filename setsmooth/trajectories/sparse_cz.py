@@ -148,6 +148,19 @@ def filtering_map(system, prior: ConvexSet, ys: Any, i: int, k: int) -> ConvexSe
     return traj.project(range(traj.dim - n, traj.dim))
 
 
+def window_posterior(system, prior: ConstrainedZonotope, Zw: ConstrainedZonotope,
+                     Zv: ConstrainedZonotope, ys: np.ndarray, i: int, k: int) -> ConstrainedZonotope:
+    """`filtering_map` F_{k,i}(prior) for trusted arguments (a checked system whose measurements
+    ``ys`` are already as measured, the CZ forms of the prior and of W and V, 0 ≤ i ≤ k ≤ T): the
+    trajectory CZ of times i..k with G selecting x_k, without projecting through a linear map."""
+    traj = _assemble(system, prior, Zw, Zv, ys, i, k)
+    n, p = system.n, traj.A.shape[1]
+    first = (k - i) * n
+    G = sp.csc_matrix((np.ones(n), (np.arange(n), np.arange(first, first + n))), shape=(n, p))
+    return ConstrainedZonotope._trusted(G, traj.c[first:first + n].copy(), traj.A, traj.b, traj.h,
+                                        traj.factors)
+
+
 def _window(start: Any, stop: Any, T: int) -> tuple[int, int]:
     """Validated (start, stop) with 0 ≤ start ≤ stop ≤ T."""
     stop = T if stop is None else stop
