@@ -7,6 +7,7 @@ import functools
 import json
 import multiprocessing
 import queue
+import sys
 import textwrap
 
 import pytest
@@ -108,6 +109,41 @@ def main(runs=DEFAULT_RUNS, seed=0, out=None, workers=None, progress=True, execu
     (out / f"{{NAME}}.json").write_text(json.dumps(values))
     return {{"rows": [{{"quantity": "first run", "paper": "-", "ours": values[0]}}]}}
 '''
+
+
+POOLED = '''
+import json, os
+from setsmooth import montecarlo
+from setsmooth.runs import slots
+
+NAME = "demo_pooled"
+PAPER = "demo"
+DEFAULT_RUNS = 4
+
+
+def trial(rng):
+    return [slots.installed(), os.getppid()]
+
+
+def main(runs=DEFAULT_RUNS, seed=0, out=None, workers=None, progress=True, executor=None):
+    seen = montecarlo.run(trial, runs, seed, executor=executor, progress=progress, workers=workers)
+    (out / f"{NAME}.json").write_text(json.dumps({"script": os.getpid(), "runs": seen}))
+    return {"rows": []}
+'''
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="pool workers fork from the script on Linux")
+def test_the_monte_carlo_workers_of_a_scheduled_script_are_its_children_and_compute_in_its_slots(tmp_path):
+    figures_dir, out = tmp_path / "figures", tmp_path / "out"
+    figures_dir.mkdir()
+    out.mkdir()
+    (figures_dir / "demo_pooled.py").write_text(POOLED)
+    (figures_dir / "demo_other.py").write_text(textwrap.dedent(SCRIPT.format(name="demo_other", after=())))
+    outcome = run_scheduled(["demo_pooled", "demo_other"], figures_dir, out, None, 0, 2, False, {}, {}, {}, 1,
+                            echo=lambda text: None)
+    assert all(isinstance(seconds, float) for seconds in outcome.values())
+    seen = json.loads((out / "demo_pooled.json").read_text())
+    assert seen["runs"] == [[True, seen["script"]]] * 4
 
 
 def test_scheduled_scripts_run_in_their_own_processes_longest_first_and_after_what_they_read(tmp_path):

@@ -131,6 +131,11 @@ def _script_process(name, figures_dir, out, runs, seed, workers, environment, bl
                     messages) -> None:
     """One figure script in this (fresh) process, computing in the slots of ``semaphore``."""
     os.environ.update(environment)
+    if sys.platform.startswith("linux"):
+        # This process's pools fork from it, as from a script run alone: their workers inherit the
+        # slots and count in its CPU time. (A fork server's child defaults to the fork server, which
+        # would start them outside both.)
+        multiprocessing.set_start_method("fork", force=True)
     if figures_dir not in sys.path:
         # The scripts import their sibling helpers, and pool workers unpickle trials by module name.
         sys.path.insert(0, figures_dir)
