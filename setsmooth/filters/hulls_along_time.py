@@ -7,8 +7,10 @@ so for any sets I_i ⊆ P_i ⊆ O_i
 
     h_{F_{k,i}(I_i)}(d)  ≤  h_{P_k}(d)  ≤  h_{F_{k,i}(O_i)}(d),
 
-two programs over the window i..k alone. Here O_i is the certified interval hull of P_i, and I_i the
-convex hull of the 2n maximizers found for P_i's own hull (points of P_i). The upper end is a
+two programs over the window i..k alone. Here O_i is the certified interval hull of P_i, and I_i a
+zonotope inside the convex hull of the 2n maximizers found for P_i's hull (points of P_i); for a
+time-invariant system both window programs keep their matrices from step to step
+(`_bracket_windows`). The upper end is a
 certified (weak-duality) support value of F_{k,i}(O_i), an upper bound on h_{P_k}(d) in floating point;
 the lower end is attained by a point of F_{k,i}(I_i). When the bracket is narrower than ``GAP_TOL`` of
 the hull's width along every axis, the step is settled: its certified hull is the upper ends and its
@@ -18,14 +20,14 @@ gives it, and so do the first steps, where that program is the cheaper one (`WIN
 the result never depends on the window except through its cost.
 
 For a detectable system the priors' influence on x_k fades geometrically with k − i, and a window of a
-few dozen steps closes the bracket at every k: the cost per step is flat. For a system whose data do
-not forget (an undetectable unstable mode) the window grows to the full program, the cost of today.
+few steps closes the bracket at every k: the cost per step is flat. For a system whose data do not
+forget (an undetectable unstable mode) the window grows to the full program, the cost of today, and
+so does a time-varying system (every step solves its own program).
 """
 
 from __future__ import annotations
 
 import sys
-from typing import Any
 
 import numpy as np
 
@@ -35,6 +37,7 @@ from ..sets.constrained_zonotope import ConstrainedZonotope
 from ..sets.empty import EmptySet
 from .._validation import measured
 from ..trajectories.sparse_cz import window_posterior
+from ._bracket_windows import BracketWindows
 
 __all__ = ["GAP_TOL", "FIRST_WINDOW", "WINDOW_FACTOR", "filtered_hulls"]
 
@@ -47,36 +50,24 @@ GAP_TOL = 1e-7
 FIRST_WINDOW = 8
 
 #: Windows are used at step k only when k ≥ WINDOW_FACTOR × the window length; earlier steps solve
-#: the posterior's own program, which is cheaper there. A step's two window programs cost about as
-#: much as the full program of k ≈ 50 (4 states) to 175 (2 states, example (31)) steps at a window
-#: of 8: the programs' fixed costs (presolve, certificate) dominate both
-#: (``benchmarks/bench_hulls_along_time.py``). The choice depends on k alone, never on time.
-WINDOW_FACTOR = 12
+#: the posterior's own program. A bracket costs 4–7 ms per step on example (31), where the own
+#: program of k = 16..40 steps costs 10–17 ms (``benchmarks/bench_hulls_along_time.py``). The choice
+#: depends on k alone, never on time.
+WINDOW_FACTOR = 2
 
 
 class _Step:
-    """What a settled step leaves for the windows that start at it."""
+    """What a settled step leaves for the windows that start at it: the support values along
+    [I; −I] (certified upper ends and attained lower ends of the brackets) and the maximizers."""
 
     __slots__ = ("upper", "lower", "points")
 
     def __init__(self, upper: np.ndarray, lower: np.ndarray, points: np.ndarray):
-        # support values along [I; −I]: certified upper ends and attained lower ends of the brackets
         self.upper, self.lower, self.points = upper, lower, points
 
     def box(self, values: np.ndarray) -> Box:
         n = values.size // 2
         return Box(-values[n:], values[:n])
-
-    def outer(self) -> ConstrainedZonotope:
-        return self.box(self.upper).to_constrained_zonotope()
-
-    def inner(self) -> ConstrainedZonotope:
-        """conv{p_1..p_r} = {m + Σ λ_j (p_j − m) : λ ≥ 0, Σ λ_j = 1} with λ = (1 + ξ)/2: the CZ
-        Z((P − m)/2, m, 1ᵀ, 2 − r), centred at the points' mean m."""
-        P = self.points
-        m = P.mean(axis=0)
-        r = P.shape[0]
-        return ConstrainedZonotope(((P - m) / 2).T, m, np.ones((1, r)), [2.0 - r])
 
 
 def _solve(S: ConstrainedZonotope, D: np.ndarray):
@@ -91,7 +82,8 @@ def filtered_hulls(system, X0: ConvexSet, ys: np.ndarray, *, certified: bool | N
     Parameters
     ----------
     system : LinearSystem
-        W and V flatten to constrained zonotopes.
+        W and V flatten to constrained zonotopes. Windows need time-invariant matrices; with
+        time-varying ones every step solves its posterior's own program.
     X0 : ConvexSet
         ⟦x_0⟧; flattens to a constrained zonotope.
     ys : ndarray, shape (T+1, m)
@@ -112,45 +104,74 @@ def filtered_hulls(system, X0: ConvexSet, ys: np.ndarray, *, certified: bool | N
 
     system, ys = measured(system, ys)
     n, T = system.n, ys.shape[0] - 1
-    forms = (X0.to_constrained_zonotope(), system.W.to_constrained_zonotope(),
-             system.V.to_constrained_zonotope())
-    D = np.vstack([np.eye(n), -np.eye(n)])
-    settled: list[_Step | None] = []
+    run = _Run(system, X0, ys, np.vstack([np.eye(n), -np.eye(n)]))
     hulls: list[ConvexSet] = []
-    length = FIRST_WINDOW
     show = sys.stderr.isatty() if progress is None else bool(progress)
     for k in tqdm(range(T + 1), desc="interval hulls", unit="set", disable=not show, leave=False):
-        if settled and settled[-1] is None:  # an empty posterior stays empty
-            settled.append(None)
-            hulls.append(EmptySet(n))
-            continue
-        step, length = _settle(system, forms, ys, k, D, settled, length)
-        settled.append(step)
-        if step is None:
-            hulls.append(EmptySet(n))
-        else:
-            hulls.append(step.box(step.lower if certified is False else step.upper))
+        step = run.settle(k)
+        hulls.append(EmptySet(n) if step is None else
+                     step.box(step.lower if certified is False else step.upper))
     return hulls
 
 
-def _settle(system, forms: tuple, ys: np.ndarray, k: int, D: np.ndarray, settled: list, length: int):
-    """(the settled step k or None when P_k is empty, the window length that settled it); ``forms``
-    are the CZ forms of X0, W and V."""
-    n, (Z0, Zw, Zv) = system.n, forms
-    while k >= WINDOW_FACTOR * length:
-        i = k - length
-        prior = settled[i]
-        upper_values, _, upper = _solve(window_posterior(system, prior.outer(), Zw, Zv, ys, i, k), D)
-        if np.isneginf(upper_values).any():
-            return None, length  # an outer bound of P_k is empty: P_k is
-        inner_values, points, _ = _solve(window_posterior(system, prior.inner(), Zw, Zv, ys, i, k), D)
-        if upper is not None and np.all(np.isfinite(inner_values)):
-            width = np.maximum(inner_values[:n] + inner_values[n:], 0.0)
-            scale = np.concatenate([width, width])
-            if np.all(upper - inner_values <= GAP_TOL * scale):
-                return _Step(upper, np.minimum(inner_values, upper), points), length
-        length *= 2
-    values, points, upper = _solve(window_posterior(system, Z0, Zw, Zv, ys, 0, k), D)
-    if np.isneginf(values).any():
-        return None, length
-    return _Step(values if upper is None else upper, values, points), length
+class _Run:
+    """The settled steps of one data set and the window programs by length."""
+
+    def __init__(self, system, X0: ConvexSet, ys: np.ndarray, D: np.ndarray):
+        self.system, self.ys, self.D = system, ys, D
+        self.forms = tuple(S.to_constrained_zonotope() for S in (X0, system.W, system.V))
+        self.settled: list[_Step | None] = []
+        self.length = FIRST_WINDOW
+        self.windows: dict[int, BracketWindows] = {}
+        self.windowed = not system.time_varying
+
+    def settle(self, k: int) -> _Step | None:
+        """Step k settled (None when P_k is empty, and at every step after an empty one)."""
+        if self.settled and self.settled[-1] is None:
+            step = None
+        else:
+            step = self._bracketed(k) if self.windowed else None
+            if step is None or step is _EMPTY:
+                step = None if step is _EMPTY else self._own(k)
+        self.settled.append(step)
+        return step
+
+    def _bracketed(self, k: int):
+        """The step from the first window whose bracket closes, from `length` on, doubling;
+        _EMPTY when an outer bound is empty, None when no window is cheaper than P_k's program.
+        The next step starts at half the length that closed (not below `FIRST_WINDOW`), so one
+        step that needed a long window does not make every later step pay for it."""
+        n, L = self.system.n, self.length
+        while k >= WINDOW_FACTOR * L:
+            prior = self.settled[k - L]
+            windows = self.windows.get(L)
+            if windows is None:
+                windows = self.windows[L] = BracketWindows(self.system, L, self.D, 2 * n)
+            upper = windows.upper(self.ys, k, *_bounds(prior.upper))
+            if np.isneginf(upper).any():
+                return _EMPTY  # an outer bound of P_k is empty: P_k is
+            lower, points = windows.lower(self.ys, k, prior.points)
+            if np.all(np.isfinite(lower)) and np.all(np.isfinite(upper)):
+                width = np.maximum(lower[:n] + lower[n:], 0.0)
+                if np.all(upper - lower <= GAP_TOL * np.concatenate([width, width])):
+                    self.length = max(FIRST_WINDOW, L // 2)
+                    return _Step(upper, np.minimum(lower, upper), points)
+            L *= 2
+        return None
+
+    def _own(self, k: int) -> _Step | None:
+        """Step k from P_k's own program (the trajectories 0..k)."""
+        Z0, Zw, Zv = self.forms
+        values, points, upper = _solve(window_posterior(self.system, Z0, Zw, Zv, self.ys, 0, k), self.D)
+        if np.isneginf(values).any():
+            return None
+        return _Step(values if upper is None else upper, values, points)
+
+
+_EMPTY = object()
+
+
+def _bounds(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(lo, hi) of support values along [I; −I]."""
+    n = values.size // 2
+    return -values[n:], values[:n]

@@ -58,19 +58,22 @@ def test_windowed_hulls_equal_own_hulls_on_random_systems_in_every_regime(index,
 
 def test_windows_stay_short_on_a_detectable_system(monkeypatch):
     """The cost per step is flat because the bracket closes in a window of bounded length."""
-    lengths = []
-    settle = along._settle
+    closed = []
+    bracketed = along._Run._bracketed
 
-    def spy(*args):
-        out = settle(*args)
-        lengths.append(out[1])
-        return out
+    def spy(run, k):
+        step = bracketed(run, k)
+        if isinstance(step, along._Step):
+            closed.append(k)
+        return step
 
-    monkeypatch.setattr(along, "_settle", spy)
+    monkeypatch.setattr(along._Run, "_bracketed", spy)
+    monkeypatch.setattr(along, "FIRST_WINDOW", 8)  # the default
     system, X0 = smoothing_example_31(), smoothing_example_31_x0()
-    _, ys = ss.simulate(system, X0, 40, np.random.default_rng(5))
+    _, ys = ss.simulate(system, X0, 60, np.random.default_rng(5))
     filtered_hulls(system, X0, ys, progress=False)
-    assert max(lengths) <= 4 * along.FIRST_WINDOW and lengths[-10:] == [lengths[-1]] * 10
+    # from k = 32 on, where a window of 16 steps may be tried, nearly every step is a bracket
+    assert sum(k >= 32 for k in closed) >= 0.9 * (60 - 31)
 
 
 def test_an_unclosable_bracket_falls_back_to_the_posteriors_own_program(monkeypatch):
