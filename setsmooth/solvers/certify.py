@@ -24,6 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .clarabel_lp import SolverError
+from .small_products import SmallProduct
 
 __all__ = ["gamma", "free_factor_bound", "normal_solver", "correct_multipliers", "certified_bound",
            "FREE_BOUND_DENSE_MAX", "Operators"]
@@ -180,11 +181,12 @@ class Operators:
                                                 else factor_part)
 
     @staticmethod
-    def factor_part(A: sp.csc_matrix) -> tuple[sp.csr_matrix, sp.csr_matrix, np.ndarray]:
-        """(Aᵀ, |A|ᵀ, γ_{m_j+2} per column): what `certified_bound` needs of the factor set."""
-        At = sp.csr_matrix(A.T)
+    def factor_part(A: sp.csc_matrix) -> tuple[SmallProduct, SmallProduct, np.ndarray]:
+        """(Aᵀ, |A|ᵀ, γ_{m_j+2} per column): what `certified_bound` needs of the factor set (the
+        products as `small_products.SmallProduct`s: scipy's, bit for bit)."""
         col_nnz = np.diff(A.indptr) if A.shape[0] else np.zeros(A.shape[1], dtype=int)
-        return At, abs(At), gamma(col_nnz + 2)
+        return (SmallProduct(A, transpose=True), SmallProduct(A, transpose=True, absolute=True),
+                gamma(col_nnz + 2))
 
 
 def certified_bound(d: np.ndarray, G, c: np.ndarray, A: sp.csc_matrix, b: np.ndarray,

@@ -279,7 +279,7 @@ class CZProgram:
 
     def _bound(self, D, values, rows, lam, bound):
         if self._ops is None:
-            self._ops = Operators(self.G, self.A, self.factors.certificate_operators()[2])
+            self._ops = Operators(self.G, self.A, self.factors.certificate_part())
         out, stored, own = values.copy(), values.copy(), np.zeros(values.shape)
         out[rows], stored[rows], own[rows] = certified_bound(D[rows], self.G, self.c, self.A, self.b, self.h,
                                                    lam, bound, self._ops, pad=self.pad,

@@ -157,17 +157,24 @@ class FactorConstraints:
         return self._free_bound[0]
 
     def certificate_operators(self) -> tuple[sp.csc_matrix, sp.csr_matrix, tuple]:
-        """(A_F, A_Fᵀ, `certify.Operators.factor_part`): the factor set's part of a certificate,
-        prepared once and shared by every CZ over this factor set (the projections of one
-        trajectory set each certify against the same A)."""
+        """(A_F, A_Fᵀ, `certificate_part`): the free factors' part of a certificate, prepared
+        once and shared by every CZ over this factor set (the projections of one trajectory set
+        each certify against the same A)."""
         ops = self.__dict__.get("_certificate_ops")
         if ops is None:
+            AF = self.A[:, self.free]  # CSC already, and its transpose CSR: no further conversion
+            ops = self.__dict__["_certificate_ops"] = (AF, AF.T, self.certificate_part())
+        return ops
+
+    def certificate_part(self) -> tuple:
+        """`certify.Operators.factor_part` of A, prepared once (all a certificate needs of the
+        factor set when no factor is free)."""
+        part = self.__dict__.get("_certificate_part")
+        if part is None:
             from .certify import Operators
 
-            AF = sp.csc_matrix(self.A[:, self.free])
-            ops = self.__dict__["_certificate_ops"] = (AF, sp.csr_matrix(AF.T),
-                                                       Operators.factor_part(self.A))
-        return ops
+            part = self.__dict__["_certificate_part"] = Operators.factor_part(self.A)
+        return part
 
     # -- queries -----------------------------------------------------------------------------------
     def program_for(self, attempt: Attempt, kept: Presolved) -> Presolved:

@@ -95,7 +95,8 @@ def lp_model(A: sp.spmatrix, row_lower: np.ndarray, row_upper: np.ndarray, col_l
     col_lower ≤ x ≤ col_upper (±inf allowed); costs are set per objective."""
     import highspy
 
-    A = sp.csc_matrix(A)
+    if not (sp.issparse(A) and A.format == "csc"):
+        A = sp.csc_matrix(A)
     m, p = A.shape
     inf = highspy.kHighsInf
     h = quiet_highs()

@@ -11,9 +11,8 @@ maps every representation of one set to (nearly) the same well-scaled program:
   invariant under rescaling a bounded factor);
 * rows are scaled to unit ∞-norm over their bounded entries, and the columns of free factors to
   unit ∞-norm over those rows (alternating sweeps with the rows that hold free factors only, for
-  free factors seen by no other row), so a row or a free factor
-  scaled by 1e±12 is the same row or factor, and free factors take values in the units of the
-  bounded ones;
+  free factors seen by no other row), so a row or a free factor scaled by 1e±12 is the same row
+  or factor, and free factors take values in the units of the bounded ones;
 * zero rows are dropped (an inconsistent one, 0 = b_i ≠ 0, means the set is empty), and, when
   asked (small or dense programs, or after a failed solve), linearly dependent rows too, through the
   scale-invariant rank decision of `setsmooth.linalg.independent_rows`.
@@ -35,11 +34,11 @@ from functools import cached_property
 import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
-import scipy.sparse.linalg
 
 from .. import tolerances as tol
 from ..linalg import independent_rows
 from .free_factors import nominal_free_point
+from .small_products import SmallProduct, gram
 
 __all__ = ["Presolved", "presolve", "RUIZ_SWEEPS", "INDEPENDENT_RCOND"]
 
@@ -47,11 +46,9 @@ __all__ = ["Presolved", "presolve", "RUIZ_SWEEPS", "INDEPENDENT_RCOND"]
 #: free factors, to unit ∞-norm); without free factors one row normalization is exact.
 RUIZ_SWEEPS = 3
 
-
 #: Rows whose smallest singular value is at least this fraction of the largest are independent
 #: beyond doubt (far above the rank tolerance of `independent_rows`), and the QR is skipped.
 INDEPENDENT_RCOND = 1e-6
-
 
 #: Largest kept-rows × columns count for which dependent rows are looked for (the dense Gram matrix
 #: or QR of the rows: 3e7 entries, 240 MB). Beyond it the fallback goes to the simplex method, whose
@@ -116,18 +113,23 @@ class Presolved:
     @cached_property
     def At(self) -> sp.csr_matrix:
         """Âᵀ, kept: a transpose per solve costs more than its product on small programs."""
-        return sp.csr_matrix(self.A.T)
+        return self.A.T  # CSR, sharing Â's arrays
+
+    @cached_property
+    def products(self) -> tuple[SmallProduct, SmallProduct]:
+        """(Â, Âᵀ) for products with vectors, bit for bit scipy's and cheaper on small programs."""
+        return SmallProduct(self.A), SmallProduct(self.A, transpose=True)
 
     @cached_property
     def free_columns(self) -> sp.csc_matrix:
         """Â_F, the free factors' columns, kept (`project_free` needs them per direction)."""
-        return sp.csc_matrix(self.A[:, ~self.bounded])
+        return self.A[:, ~self.bounded]
 
     @cached_property
     def _free_rows(self) -> tuple[np.ndarray, sp.csr_matrix]:
         """The free factors' indices and their rows of Âᵀ."""
         free = np.flatnonzero(~self.bounded)
-        return free, sp.csr_matrix(self.At[free])
+        return free, self.At[free]
 
     def free_residual(self, q: np.ndarray, z: np.ndarray) -> float:
         """max_j free |q_j + (Âᵀz)_j|: how far z is from cancelling the objective q on the free
@@ -143,13 +145,14 @@ class Presolved:
         b̂ᵀλ + Σ_B |ĝ − Âᵀλ|_j must be within ``SOLVER_CHECK_TOL`` of the scale (rows and objective
         have unit ∞-norm, bounds are 1). Returns the relative gap, or None when the check fails."""
         lam = z  # Clarabel's stationarity q + Âᵀz = 0 on the free factors: λ̂ = z
-        reduced = -q - self.At @ lam
+        A, At = self.products
+        reduced = -q - At @ lam
         if np.abs(reduced[~self.bounded]).max(initial=0.0) > tol.REDUCED_COST_TOL:
             return None
         primal = float(-q @ eta)
         dual = float(lam @ self.b + np.abs(reduced[self.bounded]).sum())
         scale = self.data_scale + np.abs(q).sum()
-        residual = np.abs(self.A @ eta - self.b).max(initial=0.0)
+        residual = np.abs(A @ eta - self.b).max(initial=0.0)
         overshoot = np.max(np.abs(eta[self.bounded]) - 1.0, initial=0.0)
         worst = max(abs(dual - primal), residual, overshoot) / scale
         return worst if worst <= tol.SOLVER_CHECK_TOL else None
@@ -318,8 +321,7 @@ def _well_conditioned(M: sp.csc_matrix, rows: np.ndarray) -> bool:
     m = rows.size
     if m > M.shape[1]:
         return False
-    Mr = M[rows] if m < M.shape[0] else M
-    G = (Mr @ Mr.T).toarray()
+    G = gram(M[rows] if m < M.shape[0] else M)
     bound = float(np.abs(G).sum(axis=1).max(initial=0.0))
     if not bound > 0 or not np.isfinite(bound):
         return False
