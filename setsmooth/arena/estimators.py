@@ -26,7 +26,8 @@ import numpy as np
 
 from ..filters.classical import classical_filter
 from ..filters.lsu import LSUModel, lsu_cz_filter, lsuo_filter, lsup_filter
-from ..filters.oit import oit_cz_filter, oit_inspired_filter
+from ..filters.oit import oit_inspired_filter
+from ..filters.oit_cz import oit_cz_filter
 from ..sets.reduction import CORA_COMBASTEL, CORA_GIRARD
 from ..smoothers.linear import optimal_smoother
 

@@ -5,7 +5,8 @@ from .consistency import (Inconsistency, ModelInvalidatedError, ModelInvalidatio
                           first_inconsistency)
 from .interval import interval_filter
 from .kalman import KalmanResult, kalman_filter, rts_smoother
-from .oit import OITResult, oit_cz_filter, oit_inspired_filter
+from .oit import OITResult, oit_inspired_filter
+from .oit_cz import oit_cz_filter
 
 __all__ = ["classical_filter", "predict", "update", "interval_filter", "kalman_filter", "rts_smoother",
            "KalmanResult", "oit_inspired_filter", "oit_cz_filter", "OITResult", "first_inconsistency",

@@ -1,4 +1,4 @@
-"""The loop of the OIT-CZ SMF (stability paper Algorithm 3); `oit.oit_cz_filter` is its public door.
+"""The OIT-CZ SMF (stability paper Algorithm 3): `oit_cz_filter`, its door, and the loop `run_oit_cz`.
 
 Every interval hull the algorithm takes is certified (weak-duality upper bounds, `solvers.certify`), so
 the boxes T̂^ō, P_o·IH and the radius ℓ_k that the later steps build on are outer bounds in floating
@@ -10,17 +10,114 @@ from __future__ import annotations
 
 import weakref
 from time import process_time as perf_counter  # CPU time: robust on a shared machine
+from typing import Any
 
 import numpy as np
+
+from .._validation import measured
+from ..sets.base import ConvexSet
 
 from ..results import SetEstimates
 from ..sets.algebra import linear_map
 from ..sets.empty import EmptySet
 from ..solvers.parametric import ParametricSupport
-from ._oit_support import Structure
+from ._oit_support import Structure, upsilon_inf
 from ._window import Window
-from .classical import _predict, _update
-from .oit import OITResult, _reset
+from .classical import _check_state_set, _predict, _update
+from .consistency import check_on_inconsistent, outer_inconsistency, report_inconsistency
+from .oit import OITResult, _check_int, _reset, _structure
+
+__all__ = ["oit_cz_filter", "run_oit_cz"]
+
+
+def oit_cz_filter(system, X0: ConvexSet, ys: Any, *, delta_bar: int | None = None,
+                  epsilon: float = 1e-3, decomposition=None, hulls: bool = False,
+                  on_inconsistent: str = "warn") -> OITResult:
+    """Stability paper Algorithm 3: the OIT-inspired constrained-zonotopic SMF (OIT-CZ SMF).
+
+    Lines 2–6 (k < δ̄): the exact CZ filter (20)–(21) from X0, reset by Line 5 when empty (θ-doubling);
+    Line 6 keeps the interval hull of the unobservable part of each prior. Lines 7–12 (k ≥ δ̄): the
+    window Z_k = F_{k,k−δ̄}(P⁻¹(T̂^o × T̂^ō)) of (22)–(23), with T̂^o = ℝ^{n_o} for k < 2δ̄ (Lemma 1's θ̄
+    = ∞) and P_o·IH(Z_{k−δ̄}) afterwards (footnote 19: the posterior's hull in place of the prior's),
+    and T̂^ō the box of Line 6, then B_{α_k}[ĉ^ō_k] of Lines 9–12 with the paper's
+    α_k = ½‖Ã_ō^{k−δ̄}‖∞ d∞(Z̃^ō_δ̄) + Υ∞ ℓ_{k−1} + ε.
+    For observable (A, C) the window prior is ℝⁿ (T̂^o = ℝⁿ, nothing else remains): Z_k =
+    F_{k,k−δ̄}(ℝⁿ), whose constraint matrix is the same at every step and only b changes.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        Time-invariant A, C, E, F; W and V with CZ forms. A known input u is allowed (B, D may vary).
+    X0 : ConvexSet
+        Bounded initial condition with a CZ form.
+    ys : array_like, shape (T+1, m)
+    delta_bar : int, optional
+        δ̄ ≥ k_* = max{μ_o − 1 + n_λ0, 1}; default n_o − rank(C̃_o) + 3 (the paper's runs), raised to
+        k_* if smaller.
+    epsilon : float
+        ε > 0 of Line 12 (unused for observable systems).
+    decomposition : optional
+        An observability decomposition to use instead of computing one.
+    hulls : bool
+        Compute the certified interval hulls of every estimate during the run, timed apart
+        (``result.hulls``, ``hull_seconds``). Without it ``result.lo``/``hi`` compute them on first
+        use.
+    on_inconsistent : {'warn', 'raise', 'ignore'}
+        What to do when an estimate is empty, which no reset repairs. From δ̄ on every Z_k contains
+        the exact posterior, so an empty Z_k proves the data inconsistent with the model (a non-empty
+        one does not prove them consistent; `setsmooth.filters.consistency`); before δ̄ an empty
+        estimate is reset (Line 5: the initial condition was wrong, not the model) unless no
+        θ ≤ 2⁶⁰ gives a non-empty one. 'warn' issues a `ModelInvalidationWarning` naming the first
+        such step, its measurement and its distance from the output set predicted from Z_{k−1};
+        'raise' raises `ModelInvalidatedError`. Empty estimates are `EmptySet`s (NaN hull rows); for
+        detectable systems, whose later windows are built from them, every later one too. Finding
+        them costs one emptiness program per step when the hulls are not computed (observable
+        systems without ``hulls=True``); 'ignore' skips it.
+
+    Returns
+    -------
+    OITResult
+
+    Raises
+    ------
+    ValueError
+        On a time-varying system, sets without CZ form, δ̄ < k_*, ε ≤ 0 or an undetectable (A, C);
+        `ModelInvalidatedError` (a ValueError) for inconsistent data with ``on_inconsistent='raise'``.
+
+    Examples
+    --------
+    >>> import numpy as np, setsmooth as ss
+    >>> box = ss.Box([-1.0], [1.0])
+    >>> system = ss.LinearSystem([[1.0, 1.0], [0.0, 1.0]], None, [[1.0, 0.0]], E=[[0.5], [1.0]],
+    ...                          W=box, V=box)
+    >>> xs, ys = ss.simulate(system, ss.Box([1, 1], [3, 3]), 8, np.random.default_rng(0))
+    >>> res = ss.oit_cz_filter(system, ss.Box([-1, -1], [1, 1]), ys, delta_bar=2)
+    >>> len(res.estimates), all(Z.contains(x) for Z, x in zip(res.estimates[2:], xs[2:]))
+    (9, True)
+    """
+    system, ys = measured(system, ys)
+    _check_state_set(X0, "X0", system.n)
+    check_on_inconsistent(on_inconsistent)
+    for name, S in (("X0", X0), ("system.W", system.W), ("system.V", system.V)):
+        if S._flat_cz is None:
+            raise ValueError(f"{name} must have a constrained-zonotope form for the OIT-CZ SMF, "
+                             f"got {type(S).__name__}")
+    st = _structure(system, decomposition)
+    default = st.n_o - int(np.linalg.matrix_rank(st.C_o)) + 3 if st.n_o else 1
+    delta_bar = max(default, st.k_star) if delta_bar is None else _check_int(delta_bar, "delta_bar",
+                                                                             st.k_star)
+    if isinstance(epsilon, bool) or not np.isfinite(epsilon) or not epsilon > 0:
+        raise ValueError(f"epsilon must be a positive finite number, got {epsilon!r}")
+    if not st.observable and max(abs(np.linalg.eigvals(st.A_obar))) >= 1:
+        raise ValueError("(A, C) is not detectable: the unobservable part has an eigenvalue of modulus "
+                         ">= 1, and Algorithm 3 needs a detectable pair")
+    ups = 0.0 if st.observable else upsilon_inf(st.A_obar)
+    result = run_oit_cz(system, X0.to_constrained_zonotope(), ys, st, delta_bar, float(epsilon), ups,
+                        hulls, on_inconsistent != "ignore")
+    if on_inconsistent != "ignore":
+        found = outer_inconsistency(system, X0, ys, result.estimates, "OIT-CZ")
+        report_inconsistency(found, on_inconsistent)
+    return result
 
 
 def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilon: float,
