@@ -145,15 +145,15 @@ class Presolved:
         b̂ᵀλ + Σ_B |ĝ − Âᵀλ|_j must be within ``SOLVER_CHECK_TOL`` of the scale (rows and objective
         have unit ∞-norm, bounds are 1). Returns the relative gap, or None when the check fails."""
         lam = z  # Clarabel's stationarity q + Âᵀz = 0 on the free factors: λ̂ = z
-        A, At = self.products
-        reduced = -q - At @ lam
-        if np.abs(reduced[~self.bounded]).max(initial=0.0) > tol.REDUCED_COST_TOL:
+        reduced = -q - self.products[1] @ lam
+        free = self.has_free  # else the masks select every entry: the same sums, unmasked
+        if free and np.abs(reduced[~self.bounded]).max(initial=0.0) > tol.REDUCED_COST_TOL:
             return None
         primal = float(-q @ eta)
-        dual = float(lam @ self.b + np.abs(reduced[self.bounded]).sum())
+        dual = float(lam @ self.b + np.abs(reduced[self.bounded] if free else reduced).sum())
         scale = self.data_scale + np.abs(q).sum()
-        residual = np.abs(A @ eta - self.b).max(initial=0.0)
-        overshoot = np.max(np.abs(eta[self.bounded]) - 1.0, initial=0.0)
+        residual = np.abs(self.products[0] @ eta - self.b).max(initial=0.0)
+        overshoot = np.max(np.abs(eta[self.bounded] if free else eta) - 1.0, initial=0.0)
         worst = max(abs(dual - primal), residual, overshoot) / scale
         return worst if worst <= tol.SOLVER_CHECK_TOL else None
 

@@ -30,9 +30,6 @@ SMALL_PRODUCT_MAX = 5_000
 GRAM_DENSE_MAX = 250_000
 
 
-def _sequential(products: np.ndarray, axis: int) -> np.ndarray:
-    """Σ along ``axis`` of ``products``, term by term in ascending order, a zero sum +0."""
-    return np.take(np.add.accumulate(products, axis=axis), -1, axis=axis) + 0.0
 
 
 class SmallProduct:
@@ -66,19 +63,19 @@ class SmallProduct:
 
     def __matmul__(self, X: np.ndarray) -> np.ndarray:
         D = self.dense
-        X = np.asarray(X)
         if D is None or X.dtype != np.float64 or not np.isfinite(X).all():
             return self.sparse @ X
+        # Σ over the inner index, term by term in ascending order; + 0.0: a zero sum is +0
         if X.ndim == 1:
-            return _sequential(D * X, axis=1)
-        return _sequential(D[:, :, None] * X[None, :, :], axis=1)
+            return np.add.accumulate(D * X, axis=1)[:, -1] + 0.0
+        return np.add.accumulate(D[:, :, None] * X, axis=1)[:, -1] + 0.0
 
 
 def gram(M: sp.csc_matrix) -> np.ndarray:
     """M Mᵀ as a dense array, bit for bit ``(M @ M.T).toarray()`` (each entry Σ_k M_ik M_jk in
     ascending k), summed densely when m²·p is at most ``GRAM_DENSE_MAX``."""
     m, p = M.shape
-    if m * m * p > GRAM_DENSE_MAX or not M.has_canonical_format:
+    if p == 0 or m * m * p > GRAM_DENSE_MAX or not M.has_canonical_format:
         return (M @ M.T).toarray()
     D = M.toarray()
-    return _sequential(D[:, None, :] * D[None, :, :], axis=2)
+    return np.add.accumulate(D[:, None, :] * D[None, :, :], axis=2)[:, :, -1] + 0.0
