@@ -7,7 +7,8 @@
   Clarabel; HiGHS by `highs` and `warm_simplex`) and judged by `maximization`; emptiness by an
   elastic phase-one program (`phase_one`), unbounded directions by a recession program
   (`recession`). `cz_program`: the support and certificate programs of one CZ (`CZProgram`),
-  `cz_membership` its membership program; `certify`: floating-point-sound weak-duality bounds.
+  `cz_membership` its membership program; `certify`: floating-point-sound weak-duality bounds;
+  `small_products`: a small program's sparse products summed densely, bit for bit scipy's.
 * `generic`: the **generic path** for any set: its CVXPY constraints with the direction as a
   ``cp.Parameter``, compiled once per program (`GenericProgram`), and the Chebyshev ball of an
   H-polytope.
