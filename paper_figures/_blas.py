@@ -4,7 +4,7 @@ An environment variable such as ``OPENBLAS_NUM_THREADS`` only acts when OpenBLAS
 ``setsmooth figures`` every script runs in one process, so after the first script NumPy is loaded and a
 script's own ``os.environ`` pin does nothing (stability Table 1 was timed with two threads while its JSON
 said one). `limited` sets the limit in the loaded libraries themselves (threadpoolctl, through
-`setsmooth.runs.cli.blas_limit`) and returns what they report back, which is what a script records beside
+`setsmooth.runs.environment.blas_limit`) and returns what they report back, which is what a script records beside
 its timings.
 """
 
@@ -15,7 +15,7 @@ from pathlib import Path
 
 from threadpoolctl import threadpool_info
 
-from setsmooth.runs.cli import blas_limit
+from setsmooth.runs.environment import blas_limit
 
 
 def in_force() -> list[dict]:

@@ -37,13 +37,14 @@ copies beside it for a paper (PDF, SVG or EPS; text kept as text).
 from __future__ import annotations
 
 import argparse
-import contextlib
 import importlib
 import os
 import sys
 import time
 import traceback
 from pathlib import Path
+
+from .environment import BLAS_ENV, blas_limit, temporary_environment
 
 ENV_VAR = "SETSMOOTH_FIGURES_DIR"
 #: Read by ``paper_figures/_outputs.py``: the extra formats of every figure (comma-separated).
@@ -136,44 +137,8 @@ def run_figures(names: list[str], figures_dir: Path, out: Path, runs: int | None
     processes of their own (`setsmooth.runs.figure_processes.run_scheduled`); the wall times are then
     in the order the scripts started.
     """
-    with _environment({FORMATS_ENV: ",".join(formats or ["png"])}), blas_limit(blas_threads):
+    with temporary_environment({FORMATS_ENV: ",".join(formats or ["png"])}), blas_limit(blas_threads):
         return _run_figures(names, figures_dir, out, runs, seed, workers, progress, executor, blas_threads)
-
-
-#: The variables BLAS libraries read when they load (in this process later, or in a worker process).
-BLAS_ENV = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
-
-
-@contextlib.contextmanager
-def blas_limit(threads: int | None):
-    """Limit the loaded BLAS libraries (threadpoolctl) and those loaded later (environment) to ``threads``.
-
-    An environment variable alone acts only where a library has not loaded yet: after NumPy's import
-    it changes nothing in this process, which is how Table 1 was once timed on two threads.
-    """
-    if threads is None:
-        yield
-        return
-    from threadpoolctl import threadpool_limits
-
-    with _environment(dict.fromkeys(BLAS_ENV, str(threads))), \
-            threadpool_limits(limits=threads, user_api="blas"):
-        yield
-
-
-@contextlib.contextmanager
-def _environment(values: dict[str, str]):
-    """Set environment variables for the duration of the block, then restore them."""
-    saved = {name: os.environ.get(name) for name in values}
-    os.environ.update(values)
-    try:
-        yield
-    finally:
-        for name, value in saved.items():
-            if value is None:
-                os.environ.pop(name, None)
-            else:
-                os.environ[name] = value
 
 
 def _run_figures(names, figures_dir, out, runs, seed, workers, progress, executor, blas_threads):

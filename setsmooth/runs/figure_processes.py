@@ -30,6 +30,7 @@ from pathlib import Path
 from tqdm import tqdm
 
 from . import slots
+from .environment import blas_limit
 from .schedule import plan, prerequisites
 
 #: Imported once by the fork server, so a script process starts without importing the library.
@@ -139,7 +140,6 @@ def _script_process(name, figures_dir, out, runs, seed, workers, environment, bl
     if figures_dir not in sys.path:
         # The scripts import their sibling helpers, and pool workers unpickle trials by module name.
         sys.path.insert(0, figures_dir)
-    from .cli import blas_limit
 
     slots.install(semaphore)
     semaphore.acquire()
