@@ -60,7 +60,7 @@ def project_free(pre, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     λ₀ is the least-norm solution through the normal equations of Â_F (one sparse LU per presolved
     program and thread, refined), or by lsqr when Â_F is rank deficient: `certify.correct_multipliers`
     from λ = 0; one factorization serves every direction, where lsqr per direction dominated a
-    smoother's time (evidence: docs/numerical_core.md, “Evidence behind the choices”).
+    smoother's time (docs/numerical_core.md).
     """
     from .certify import correct_multipliers, normal_solver
     from .instances import cached_instance

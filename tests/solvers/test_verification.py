@@ -19,7 +19,7 @@ from setsmooth import tolerances as tol
 from setsmooth.solvers import clarabel_lp, policy
 from setsmooth.solvers.cz_program import CZProgram
 
-from ..reliability.random_systems import base_case, in_regime
+from setsmooth.reliability.random_systems import base_case, in_regime
 
 
 #: Clarabel answers every direction first (the simplex method answers first as built on programs
