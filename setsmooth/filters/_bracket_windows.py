@@ -13,7 +13,8 @@ only, apart from the inner prior's generators:
   instance per L keeps a dense pattern for them, and a step updates their values and b.
 
 Nothing is assembled or presolved per step. The inner program's values are plain (attained by points
-of I's window to the solver's tolerance); the outer's are certified.
+of I's window to the solver's tolerance; a direction the kept instance does not settle is solved by the
+window's own program, `solvers.policy`); the outer's are certified.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ import clarabel
 import numpy as np
 import scipy.sparse as sp
 
+from ..sets.constrained_zonotope import ConstrainedZonotope
 from ..solvers import clarabel_lp
 from ..solvers.instances import cached_instance
 from ..solvers.parametric import ParametricSupport
@@ -81,10 +83,16 @@ class BracketWindows:
         for j in range(K):
             solver.update(q=q[j])
             sol = solver.solve()
-            status = str(sol.status).split(".")[-1]
-            if status == "Solved":
+            if str(sol.status).split(".")[-1] == "Solved":
                 points[j] = G @ np.asarray(sol.x) + c
                 values[j] = self.D[j] @ points[j]
+        unsettled = np.flatnonzero(np.isnan(values))
+        if unsettled.size:
+            # Degenerate windows (a state the data pin to a sliver) can stop the kept interior-point
+            # instance short; the set's own program settles them (`solvers.policy`).
+            Z = ConstrainedZonotope._trusted(G, c, A, b, h)
+            values[unsettled], points[unsettled], _ = Z._program.support_points_and_bounds(
+                self.D[unsettled])
         return values, points
 
     def _stacked_values(self, A: np.ndarray) -> np.ndarray:

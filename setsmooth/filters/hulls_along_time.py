@@ -12,10 +12,11 @@ zonotope inside the convex hull of the 2n maximizers found for P_i's hull (point
 time-invariant system both window programs keep their matrices from step to step
 (`_bracket_windows`). The upper end is a
 certified (weak-duality) support value of F_{k,i}(O_i), an upper bound on h_{P_k}(d) in floating point;
-the lower end is attained by a point of F_{k,i}(I_i). When the bracket is narrower than ``GAP_TOL`` of
-the hull's width along every axis, the step is settled: its certified hull is the upper ends and its
-plain hull the lower ends (exact to that relative width). Otherwise the window doubles, down to i = 0
-where F_{k,0}(X0) is P_k itself: the answer is then the full program's, as `SetEstimates.interval_hulls`
+the lower end is attained by a point of F_{k,i}(I_i). When every bracket is narrower than ``GAP_TOL``
+of the hull's ∞-diameter, the step is settled: its certified hull is the upper ends and its
+plain hull the lower ends (exact to that fraction of the diameter). Otherwise the step solves
+F_{k,0}(X0), P_k itself, and the next step tries a window twice as long: the answer is then the full
+program's, as `SetEstimates.interval_hulls`
 gives it, and so do the first steps, where that program is the cheaper one (`WINDOW_FACTOR`). So
 the result never depends on the window except through its cost.
 
@@ -41,12 +42,15 @@ from ._bracket_windows import BracketWindows
 
 __all__ = ["GAP_TOL", "FIRST_WINDOW", "WINDOW_FACTOR", "filtered_hulls"]
 
-#: The bracket (certified upper end minus inner lower end) accepted, relative to the hull's width
-#: along the axis: an order below the 1e-6 of a width that the hulls are held to.
+#: The bracket (certified upper end minus inner lower end) accepted, relative to the hull's widest
+#: edge (its ∞-diameter): an order below the 1e-6 that the hulls are held to. Relative to the set's
+#: size, not to each coordinate's width: a coordinate that the data pin to a sliver (a state read
+#: by a precise sensor and driven by no noise) has a width below any solver's accuracy, and a
+#: per-coordinate test would never settle it.
 GAP_TOL = 1e-7
 
-#: The window length k − i tried first; a step whose bracket does not close doubles it, and the
-#: next step starts from the length that closed.
+#: The window length k − i tried first; a step tries its length and twice it, keeps the one that
+#: closes, and doubles the length when neither does.
 FIRST_WINDOW = 8
 
 #: Windows are used at step k only when k ≥ WINDOW_FACTOR × the window length; earlier steps solve
@@ -137,26 +141,37 @@ class _Run:
         return step
 
     def _bracketed(self, k: int):
-        """The step from the first window whose bracket closes, from `length` on, doubling;
-        _EMPTY when an outer bound is empty, None when no window is cheaper than P_k's program.
-        The next step starts at half the length that closed (not below `FIRST_WINDOW`), so one
-        step that needed a long window does not make every later step pay for it."""
-        n, L = self.system.n, self.length
-        while k >= WINDOW_FACTOR * L:
-            prior = self.settled[k - L]
-            windows = self.windows.get(L)
-            if windows is None:
-                windows = self.windows[L] = BracketWindows(self.system, L, self.D, 2 * n)
-            upper = windows.upper(self.ys, k, *_bounds(prior.upper))
-            if np.isneginf(upper).any():
-                return _EMPTY  # an outer bound of P_k is empty: P_k is
-            lower, points = windows.lower(self.ys, k, prior.points)
-            if np.all(np.isfinite(lower)) and np.all(np.isfinite(upper)):
-                width = np.maximum(lower[:n] + lower[n:], 0.0)
-                if np.all(upper - lower <= GAP_TOL * np.concatenate([width, width])):
-                    self.length = max(FIRST_WINDOW, L // 2)
-                    return _Step(upper, np.minimum(lower, upper), points)
-            L *= 2
+        """The step from the window of the current length, or of twice that length, whose bracket
+        closes; _EMPTY when an outer bound is empty; None when neither closes or no window is
+        cheaper than P_k's own program (k < WINDOW_FACTOR × length). A length that closed is kept
+        for the next step, so the length settles at what the data need; when neither closes the
+        next step starts at the longer one, so data whose brackets never close pay for O(log T)
+        windows in a run, not two per step."""
+        for L in (self.length, 2 * self.length):
+            if k < WINDOW_FACTOR * L:
+                return None
+            step = self._window(k, L)
+            if step is not None:
+                self.length = L
+                return step
+        self.length *= 2
+        return None
+
+    def _window(self, k: int, L: int):
+        """Step k from the bracket of the window k − L..k, _EMPTY, or None when it does not close."""
+        n = self.system.n
+        windows = self.windows.get(L)
+        if windows is None:
+            windows = self.windows[L] = BracketWindows(self.system, L, self.D, 2 * n)
+        prior = self.settled[k - L]
+        upper = windows.upper(self.ys, k, *_bounds(prior.upper))
+        if np.isneginf(upper).any():
+            return _EMPTY  # an outer bound of P_k is empty: P_k is
+        lower, points = windows.lower(self.ys, k, prior.points)
+        if np.all(np.isfinite(lower)) and np.all(np.isfinite(upper)):
+            diameter = max(float(np.max(lower[:n] + lower[n:])), 0.0)
+            if np.all(upper - lower <= GAP_TOL * diameter):
+                return _Step(upper, np.minimum(lower, upper), points)
         return None
 
     def _own(self, k: int) -> _Step | None:
