@@ -7,23 +7,19 @@ so for any sets I_i ⊆ P_i ⊆ O_i
 
     h_{F_{k,i}(I_i)}(d)  ≤  h_{P_k}(d)  ≤  h_{F_{k,i}(O_i)}(d),
 
-two programs over the window i..k alone. Here O_i is the certified interval hull of P_i, and I_i a
-zonotope inside the convex hull of the 2n maximizers found for P_i's hull (points of P_i); for a
-time-invariant system both window programs keep their matrices from step to step
-(`_bracket_windows`). The upper end is a
+two programs over the window i..k alone. Here O_i is the certified interval hull of P_i, and I_i the
+convex hull of the 2n maximizers found for P_i's hull (points of P_i). The upper end is a
 certified (weak-duality) support value of F_{k,i}(O_i), an upper bound on h_{P_k}(d) in floating point;
 the lower end is attained by a point of F_{k,i}(I_i). When every bracket is narrower than ``GAP_TOL``
 of the hull's ∞-diameter, the step is settled: its certified hull is the upper ends and its
 plain hull the lower ends (exact to that fraction of the diameter). Otherwise the step solves
 F_{k,0}(X0), P_k itself, and the next step tries a window twice as long: the answer is then the full
-program's, as `SetEstimates.interval_hulls`
-gives it, and so do the first steps, where that program is the cheaper one (`WINDOW_FACTOR`). So
+program's, as a set's own `interval_hull` gives it, and so do the first steps, where that program is the cheaper one (`WINDOW_FACTOR`). So
 the result never depends on the window except through its cost.
 
 For a detectable system the priors' influence on x_k fades geometrically with k − i, and a window of a
 few steps closes the bracket at every k: the cost per step is flat. For a system whose data do not
-forget (an undetectable unstable mode) the window grows to the full program, the cost of today, and
-so does a time-varying system (every step solves its own program).
+forget (an undetectable unstable mode) the steps solve their own programs, the cost of today.
 """
 
 from __future__ import annotations
@@ -38,7 +34,6 @@ from ..sets.constrained_zonotope import ConstrainedZonotope
 from ..sets.empty import EmptySet
 from .._validation import measured
 from ..trajectories.sparse_cz import window_posterior
-from ._bracket_windows import BracketWindows
 
 __all__ = ["GAP_TOL", "FIRST_WINDOW", "WINDOW_FACTOR", "filtered_hulls"]
 
@@ -54,10 +49,11 @@ GAP_TOL = 1e-7
 FIRST_WINDOW = 8
 
 #: Windows are used at step k only when k ≥ WINDOW_FACTOR × the window length; earlier steps solve
-#: the posterior's own program. A bracket costs 4–7 ms per step on example (31), where the own
-#: program of k = 16..40 steps costs 10–17 ms (``benchmarks/bench_hulls_along_time.py``). The choice
-#: depends on k alone, never on time.
-WINDOW_FACTOR = 2
+#: the posterior's own program, which is cheaper there: a step's two window programs cost about as
+#: much as the own program of k ≈ 50 (4 states) to 175 (2 states, example (31)) steps at a window
+#: of 8, the programs' fixed costs (presolve, certificate) dominating both. The choice depends on k
+#: alone, never on time.
+WINDOW_FACTOR = 12
 
 
 class _Step:
@@ -73,6 +69,18 @@ class _Step:
         n = values.size // 2
         return Box(-values[n:], values[:n])
 
+    def outer(self) -> ConstrainedZonotope:
+        """O_i: the certified hull as a CZ."""
+        return self.box(self.upper).to_constrained_zonotope()
+
+    def inner(self) -> ConstrainedZonotope:
+        """I_i = conv{p_1..p_r} = {m + Σ λ_j (p_j − m) : λ ≥ 0, Σ λ_j = 1} with λ = (1 + ξ)/2: the CZ
+        Z((P − m)/2, m, 1ᵀ, 2 − r), centred at the points' mean m."""
+        P = self.points
+        m = P.mean(axis=0)
+        r = P.shape[0]
+        return ConstrainedZonotope(((P - m) / 2).T, m, np.ones((1, r)), [2.0 - r])
+
 
 def _solve(S: ConstrainedZonotope, D: np.ndarray):
     """(values, points, bounds or None) of the support of S along the rows of D, one set of solves."""
@@ -86,8 +94,7 @@ def filtered_hulls(system, X0: ConvexSet, ys: np.ndarray, *, certified: bool | N
     Parameters
     ----------
     system : LinearSystem
-        W and V flatten to constrained zonotopes. Windows need time-invariant matrices; with
-        time-varying ones every step solves its posterior's own program.
+        W and V flatten to constrained zonotopes (time-varying matrices are read at their k).
     X0 : ConvexSet
         ⟦x_0⟧; flattens to a constrained zonotope.
     ys : ndarray, shape (T+1, m)
@@ -126,15 +133,13 @@ class _Run:
         self.forms = tuple(S.to_constrained_zonotope() for S in (X0, system.W, system.V))
         self.settled: list[_Step | None] = []
         self.length = FIRST_WINDOW
-        self.windows: dict[int, BracketWindows] = {}
-        self.windowed = not system.time_varying
 
     def settle(self, k: int) -> _Step | None:
         """Step k settled (None when P_k is empty, and at every step after an empty one)."""
         if self.settled and self.settled[-1] is None:
             step = None
         else:
-            step = self._bracketed(k) if self.windowed else None
+            step = self._bracketed(k)
             if step is None or step is _EMPTY:
                 step = None if step is _EMPTY else self._own(k)
         self.settled.append(step)
@@ -159,16 +164,14 @@ class _Run:
 
     def _window(self, k: int, L: int):
         """Step k from the bracket of the window k − L..k, _EMPTY, or None when it does not close."""
-        n = self.system.n
-        windows = self.windows.get(L)
-        if windows is None:
-            windows = self.windows[L] = BracketWindows(self.system, L, self.D, 2 * n)
-        prior = self.settled[k - L]
-        upper = windows.upper(self.ys, k, *_bounds(prior.upper))
-        if np.isneginf(upper).any():
+        n, (_, Zw, Zv) = self.system.n, self.forms
+        prior, i = self.settled[k - L], k - L
+        upper_values, _, upper = _solve(window_posterior(self.system, prior.outer(), Zw, Zv, self.ys, i, k),
+                                        self.D)
+        if np.isneginf(upper_values).any():
             return _EMPTY  # an outer bound of P_k is empty: P_k is
-        lower, points = windows.lower(self.ys, k, prior.points)
-        if np.all(np.isfinite(lower)) and np.all(np.isfinite(upper)):
+        lower, points, _ = _solve(window_posterior(self.system, prior.inner(), Zw, Zv, self.ys, i, k), self.D)
+        if upper is not None and np.all(np.isfinite(lower)):
             diameter = max(float(np.max(lower[:n] + lower[n:])), 0.0)
             if np.all(upper - lower <= GAP_TOL * diameter):
                 return _Step(upper, np.minimum(lower, upper), points)
