@@ -126,7 +126,7 @@ def filtered_hulls(system, X0: ConvexSet, ys: np.ndarray, *, certified: bool | N
 
 
 class _Run:
-    """The settled steps of one data set and the window programs by length."""
+    """The settled steps of one data set and the window length the next step starts from."""
 
     def __init__(self, system, X0: ConvexSet, ys: np.ndarray, D: np.ndarray):
         self.system, self.ys, self.D = system, ys, D
@@ -140,8 +140,7 @@ class _Run:
             step = None
         else:
             step = self._bracketed(k)
-            if step is None or step is _EMPTY:
-                step = None if step is _EMPTY else self._own(k)
+            step = self._own(k) if step is None else None if step is _EMPTY else step
         self.settled.append(step)
         return step
 
@@ -188,8 +187,3 @@ class _Run:
 
 _EMPTY = object()
 
-
-def _bounds(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(lo, hi) of support values along [I; −I]."""
-    n = values.size // 2
-    return -values[n:], values[:n]
