@@ -109,12 +109,12 @@ class ConstrainedZonotope(ConvexSet):
         self._slack = None if slack is None else mx.readonly(slack)
         self._slack_free = None if slack_free is None else mx.readonly(slack_free)
         #: A `setsmooth.trajectories.recursion_certificates.DataReference` (the same exact set,
-        #: certified against the model data) on the sets of the recursion's estimators; None
-        #: otherwise.
+        #: posed on the model data) on the sets of the recursion's estimators, which answers their
+        #: supports, hulls, emptiness and membership; None otherwise.
         self._reference = None
 
     def _with_reference(self, reference) -> "ConstrainedZonotope":
-        """This CZ with its certified values taken from ``reference.get()`` (internal)."""
+        """This CZ with its queries answered by ``reference.get()`` (internal)."""
         out = ConstrainedZonotope._trusted(self.G, self.c, self.A, self.b, self.h, self._factors,
                                            self._pad_box, self._slack, self.pad_free, self._slack_free,
                                            self._pad_generators)
@@ -233,7 +233,7 @@ class ConstrainedZonotope(ConvexSet):
         return self
 
     def _support(self, D: np.ndarray, certified: bool):
-        if certified is not False and self._reference is not None:
+        if self._reference is not None:
             return self._reference.get()._support(D, certified)
         if self.nc == 0:
             values, points = self._unconstrained_support(D)
@@ -290,10 +290,7 @@ class ConstrainedZonotope(ConvexSet):
         # The plain hull's solves also certify it (`CZProgram.support_and_bounds`): computing one
         # keeps the other, half the LPs where both are asked for (the reliability comparisons).
         if self._reference is not None:
-            # Plain values from this CZ's program; the certified ones come from the data (`_support`).
-            return {False: self._box_of_supports(self._support(np.vstack([np.eye(self.dim),
-                                                                          -np.eye(self.dim)]),
-                                                               False)[0], self.dim)}
+            return self._reference.get()._interval_hulls_at_once()
         if self.nc == 0:
             return None  # closed form
         eye = np.eye(self.dim)
@@ -358,6 +355,8 @@ class ConstrainedZonotope(ConvexSet):
                     and self._slack_free is None)
 
     def _is_empty(self) -> bool:
+        if self._reference is not None:
+            return self._reference.get().is_empty()
         if not self.factors.is_empty():
             return False
         # The stored rows are inconsistent; the exact ones may not be, within their slack: the
@@ -378,6 +377,8 @@ class ConstrainedZonotope(ConvexSet):
         # presolve are shared.
         from .membership import normalization
 
+        if self._reference is not None:
+            return self._reference.get()._contains(p, margin)
         if np.ndim(margin) == 0:
             hf = np.where(np.isfinite(self.h), self.h, 0.0)
             reach = np.asarray(abs(self.G) @ hf).ravel()  # Σ_j |G_ij| h_j over bounded factors

@@ -10,11 +10,16 @@ certificate of the stored CZ would then be sound and useless.
 The same exact sets are projections of the trajectory set (smoothing paper Theorem 1 and Corollary 1;
 stability (7)), whose rows are the model data themselves, each rounded once and charged once
 (`setsmooth.trajectories`), with no product of A's anywhere. So the recursion's estimators attach to
-each of their sets a `DataReference`: the set's certified support values and hulls are those of the
-matching projection, certified against the data, while its own program (the recursion's CZ) answers
-the plain queries. The trajectory CZ of one data set is built once, when the first certificate is
-asked for, and shared by the sets: a bound valid for the stored CZ can sit inside the exact set's, a
-bound against the data cannot (docs/numerical_core.md).
+each of their sets a `DataReference`, and the set's support values (plain and certified), hulls,
+emptiness and membership are those of the matching projection, posed on the data: one program decides
+every query of the set, so its plain hull lies inside its certified one. The recursion's own CZ (its
+rows repeated once per step that carries them, its generators products of A's) stays the set's
+representation for further set algebra, but is not the program its questions are asked of: on a
+thin smoothed set (reliability case 069, every state pinned by the data) its plain hull was 1e-4 of
+the data scale wide where the set is a point, outside its own certified hull, and its hulls cost 2.8x
+the projection's (docs/numerical_core.md). The trajectory CZ of one data set is built once, on the
+first query, and shared by the sets: a bound valid for the stored CZ can sit inside the exact set's,
+a bound against the data cannot.
 """
 
 from __future__ import annotations

@@ -50,7 +50,8 @@ def test_recursion_smoother_directions_are_answered_by_the_simplex_method_first(
         monkeypatch.setitem(BACKENDS, name, counted(name))
     monkeypatch.setattr(factor_set.FactorConstraints, "maximize", counted_maximize)
     for S in ss.optimal_smoother(case.system, case.X0, case.ys, method="recursion"):
-        S.interval_hull(certified=False)
+        # The recursion's own CZ (its queries would go to its data reference, the trajectory form).
+        ss.ConstrainedZonotope(S.G, S.c, S.A, S.b, S.h).interval_hull(certified=False)
     # Before: 40 refined interior-point re-solves (and 3 of the same program again) in the first
     # pass, 13 simplex solves; then Clarabel first, stopping at 'AlmostSolved' on more than 20
     # directions, each re-solved by the simplex method; now the simplex method answers first.
