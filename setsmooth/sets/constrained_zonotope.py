@@ -392,6 +392,8 @@ class ConstrainedZonotope(ConvexSet):
 
     def _contains_normalized(self, p: np.ndarray, s: np.ndarray, margin: float) -> bool:
         """Whether a member lies within ∞-distance ``margin`` of p in the coordinates (x − p)/s."""
+        if self._reference is not None:
+            return self._reference.get()._contains_normalized(p, s, margin)
         G = sp.diags(1.0 / s) @ self.G if sp.issparse(self.G) else self.G / s[:, None]
         scaled = ConstrainedZonotope._trusted(G, (self.c - p) / s, self.A, self.b, self.h,
                                               self.factors)

@@ -229,10 +229,16 @@ class FactorConstraints:
         """min qᵀη over the program ``pre`` relaxed by the phase-one residual plus
         ``EMPTINESS_TOL`` (`phase_one.relaxed_point`): the outer value of a non-empty set whose
         support LP no backend settled, as a `Maximized` with status 'relaxed'."""
-        rho = max(self._phase_one or 0.0, 0.0) + tol.EMPTINESS_TOL * pre.data_scale
-        x, lam_hat = relaxed_point(pre, q, rho)
+        x, lam_hat = relaxed_point(pre, q, self.relaxation(pre))
         return Maximized("relaxed", pre.factors(x[None, :], self.ng)[0],
                          pre.multipliers((lam_hat + lam0)[None], np.array([sigma]), self.nc)[0])
+
+    def relaxation(self, pre: Presolved) -> float:
+        """ρ, the relaxation |Âη − b̂| ≤ ρ of ``pre``'s rows on which a non-empty set is answered
+        when its stored rows are not settled as they are: the phase-one residual plus
+        ``EMPTINESS_TOL`` of the data's scale (asks the emptiness verdict)."""
+        self.is_empty()
+        return max(self._phase_one or 0.0, 0.0) + tol.EMPTINESS_TOL * pre.data_scale
 
     def is_empty(self) -> bool:
         """Whether {ξ : Aξ = b, |ξ| ≤ h} is empty, by the phase-one verdict (cached)."""
