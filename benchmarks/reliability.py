@@ -131,8 +131,9 @@ def system_table(results: list[compare.CaseResult], title: str, group) -> str:
         groups[group(r)].extend(r.outcomes)
     lines = [f"### {title}", "",
              "| group | runs | runs raising (by estimator and status) | true state outside | "
-             "contains rejects truth | hull off > 1e−6 (w + σ) | hull off > 1e−6 w | certified not enclosing |",
-             "|---|---|---|---|---|---|---|---|"]
+             "contains rejects truth | hull off > 1e−6 (w + σ) | hull off > 1e−6 w | certified not enclosing | "
+             "coordinates below the guaranteed width |",
+             "|---|---|---|---|---|---|---|---|---|"]
     order = sorted(groups, key=lambda g: (list(ALL_REGIMES).index(g) if g in ALL_REGIMES else 99, g))
     total: list[compare.Outcome] = []
     for g in order:
@@ -141,12 +142,12 @@ def system_table(results: list[compare.CaseResult], title: str, group) -> str:
         lines.append(f"| {g} | {len(runs)} | {_errors_cell(runs)} | "
                      f"{_count_cell(runs, 'outside', 'worst_outside')} | {_count_cell(runs, 'rejected', 'rejected')} | "
                      f"{_count_cell(runs, 'off', 'worst_off')} | {_count_cell(runs, 'off_width', 'worst_off_width')} | "
-                     f"{_count_cell(runs, 'not_enclosing', 'worst_not_enclosing')} |")
+                     f"{_count_cell(runs, 'not_enclosing', 'worst_not_enclosing')} | {sum(o.thin for o in runs)} |")
     if len(order) > 1:
         lines.append(f"| **all** | {len(total)} | {_errors_cell(total)} | "
                      f"{_count_cell(total, 'outside', 'worst_outside')} | {_count_cell(total, 'rejected', 'rejected')} | "
                      f"{_count_cell(total, 'off', 'worst_off')} | {_count_cell(total, 'off_width', 'worst_off_width')} | "
-                     f"{_count_cell(total, 'not_enclosing', 'worst_not_enclosing')} |")
+                     f"{_count_cell(total, 'not_enclosing', 'worst_not_enclosing')} | {sum(o.thin for o in total)} |")
     return "\n".join(lines)
 
 
@@ -219,7 +220,8 @@ def read_log(paths: list[Path]) -> tuple[list[compare.CaseResult], list[tuple]]:
             name = record["case"]
             regime = next(r for r in ALL_REGIMES if name.endswith("-" + r))
             _, kind, noise = name[: -len(regime) - 1].split("-")
-            result = compare.CaseResult(name, kind, noise, regime, oracle_seconds=record["oracle_seconds"])
+            result = compare.CaseResult(name, kind, noise, regime, oracle_seconds=record["oracle_seconds"],
+                                        oracle_failed=record.get("oracle_failed_message", ""))
             result.outcomes = [compare.Outcome(**o) for o in record["outcomes"]]
             cases[name] = result
             failed.pop(name, None)
@@ -234,6 +236,12 @@ def print_system_tables(case_results: list[compare.CaseResult], oracle_failed: l
     print()
     print(failed_cases(case_results))
     print()
+    unscored = [r for r in case_results if r.oracle_failed]
+    if unscored:
+        print(f"Oracle failures (scored for raising, truth and membership only): {len(unscored)}")
+        for r in unscored[:20]:
+            print(f"  {r.name}: {r.oracle_failed}")
+        print()
     if oracle_failed:
         print(f"Oracle failures (cases left out of the counts): {len(oracle_failed)}")
         for _, name, msg in oracle_failed[:20]:
@@ -424,6 +432,7 @@ def main(argv=None) -> None:
                     (oracle_failed if isinstance(r, tuple) else case_results).append(r)
                     _log_line(log, {"oracle_failed": r[1], "message": r[2]} if isinstance(r, tuple) else
                               {"case": r.name, "oracle_seconds": r.oracle_seconds,
+                               "oracle_failed_message": r.oracle_failed,
                                "outcomes": [dataclasses.asdict(o) for o in r.outcomes]})
                 if w is not None:
                     witnesses.append(w)
