@@ -187,6 +187,17 @@ def check_system(system: Any, name: str = "system") -> Any:
     return system
 
 
+def given_instead_of_set(value: Any, name: str) -> str:
+    """What was given where the set ``name`` was expected, for a message: its type, and for a pair of
+    bounds (NumPy's habit) the `Box` to write instead.
+
+    The callers test ``isinstance(value, ConvexSet)`` themselves: this module is below the sets.
+    """
+    hint = f"; for {name} given by its bounds lo ≤ · ≤ hi use ss.Box(lo, hi)" \
+        if isinstance(value, (tuple, list)) and len(value) == 2 else ""
+    return f"got {type(value).__name__}{hint}"
+
+
 def check_dim(value: Any, name: str) -> int:
     """Return a validated positive integer dimension."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):

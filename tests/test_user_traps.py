@@ -153,6 +153,30 @@ def test_boolean_measurements_are_refused_naming_ys():
         ss.classical_filter(_system(), X0, np.array([[True], [False]]))
 
 
+@pytest.mark.parametrize("estimator", [ss.classical_filter, ss.optimal_smoother, ss.oit_cz_filter])
+def test_an_X0_of_the_wrong_dimension_is_named_with_both_dimensions(estimator):
+    with pytest.raises(ValueError, match=r"^X0 must be a ConvexSet of dimension n = 2, got one of dimension 3$"):
+        estimator(_system(), ss.Box([-1, -1, -1], [1, 1, 1]), np.zeros((3, 1)))
+    with pytest.raises(ValueError, match=r"^x0_set must be a ConvexSet of dimension n = 2, got one of dimension 1$"):
+        ss.simulate(_system(), ss.Box([-1], [1]), 3, 0)
+
+
+BOUNDS = (np.array([-0.1, -0.1]), np.array([0.1, 0.1]))
+
+
+@pytest.mark.parametrize("call, name, exc", [
+    (lambda: _system(W=BOUNDS), "W", TypeError),
+    (lambda: _system(V=(np.array([-0.1]), np.array([0.1]))), "V", TypeError),
+    (lambda: ss.classical_filter(_system(), ([-1, -1], [1, 1]), np.zeros((3, 1))), "X0", ValueError),
+    (lambda: ss.optimal_smoother(_system(), ([-1, -1], [1, 1]), np.zeros((3, 1))), "X0", ValueError),
+    (lambda: ss.simulate(_system(), BOUNDS, 3, 0), "x0_set", ValueError),
+])
+def test_a_pair_of_bounds_given_for_a_set_is_led_to_box(call, name, exc):
+    with pytest.raises(exc, match=rf"^{name} must be a ConvexSet.*, got (tuple|list); for {name} given by its "
+                                  r"bounds lo ≤ · ≤ hi use ss\.Box\(lo, hi\)$"):
+        call()
+
+
 # -- sets: shapes said, never guessed ----------------------------------------------------------
 
 @pytest.mark.parametrize("make, exc, match", [

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_vector, check_system, measured
+from .._validation import as_vector, check_system, given_instead_of_set, measured
 from ..trajectories.nominal import RecursionDeviations, about_nominal
 from ..results import SetEstimates
 from ..sets.algebra import generalized_intersection, linear_map, minkowski_sum, translate
@@ -303,5 +303,8 @@ def _update(system, k: int, prior: ConvexSet, y: np.ndarray) -> ConvexSet:
 
 
 def _check_state_set(S: Any, name: str, n: int) -> None:
-    if not isinstance(S, ConvexSet) or S.dim != n:
-        raise ValueError(f"{name} must be a ConvexSet of dimension n = {n}")
+    """A ValueError naming ``name``, n and what was given, unless S is a `ConvexSet` of dimension n."""
+    if not isinstance(S, ConvexSet):
+        raise ValueError(f"{name} must be a ConvexSet of dimension n = {n}, {given_instead_of_set(S, name)}")
+    if S.dim != n:
+        raise ValueError(f"{name} must be a ConvexSet of dimension n = {n}, got one of dimension {S.dim}")

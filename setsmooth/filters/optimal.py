@@ -45,7 +45,7 @@ from ..sets.constrained_zonotope import ConstrainedZonotope
 from ..sets.empty import EmptySet
 from ..sets.reals import Reals
 from ..models.systems import LinearSystem
-from .classical import _first_empty
+from .classical import _check_state_set, _first_empty
 
 __all__ = ["joint_trajectory_set", "optimal_filter", "optimal_joint_smoother",
            "augment_identical_process_noise"]
@@ -209,8 +209,7 @@ def augment_identical_process_noise(system, X0: ConvexSet) -> tuple[LinearSystem
     """
     if not isinstance(system, LinearSystem) or not system.is_time_invariant:
         raise ValueError("system must be a time-invariant LinearSystem without input u")
-    if not isinstance(X0, ConvexSet) or X0.dim != system.n:
-        raise ValueError(f"X0 must be a ConvexSet of dimension n = {system.n}")
+    _check_state_set(X0, "X0", system.n)
     n, p = system.n, system.p
     A = np.block([[system.A_at(0), system.E_at(0)], [np.zeros((p, n)), np.eye(p)]])
     C = np.hstack([system.C_at(0), np.zeros((system.m, p))])

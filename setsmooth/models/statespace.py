@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_matrix, real_array, real_number
+from .._validation import as_matrix, given_instead_of_set, real_array, real_number
 from .discretization import bounded_noise_set, zoh_matrices
 from ..sets.base import ConvexSet
 
@@ -28,7 +28,7 @@ def linear_system_from_statespace(cls, statespace, *, W: ConvexSet, V: ConvexSet
         raise TypeError(f"statespace must be a control.StateSpace, got {type(statespace).__name__}")
     for name, S in (("W", W), ("V", V)):
         if not isinstance(S, ConvexSet):
-            raise TypeError(f"{name} must be a ConvexSet, got {type(S).__name__}")
+            raise TypeError(f"{name} must be a ConvexSet, {given_instead_of_set(S, name)}")
     A, B, C, D = (np.asarray(M, dtype=float) for M in
                   (statespace.A, statespace.B, statespace.C, statespace.D))
     n = A.shape[0]

@@ -17,7 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_generator, as_vector, check_dim, check_system, real_array, real_number
+from .._validation import (as_generator, as_vector, check_dim, check_system, given_instead_of_set, real_array,
+                           real_number)
 from ..sets.algebra import linear_map
 from ..sets.base import ConvexSet
 from .matrices import MatrixSpec, TimeVarying, check_state_dimension, known_input, noise_matrix
@@ -106,7 +107,7 @@ class LinearSystem:
                  u: Any = None, dt: float | None = None):
         for name, S in (("W", W), ("V", V)):
             if not isinstance(S, ConvexSet):
-                raise TypeError(f"{name} must be a ConvexSet, got {type(S).__name__}")
+                raise TypeError(f"{name} must be a ConvexSet, {given_instead_of_set(S, name)}")
         self._A = TimeVarying(A, "A", None, None)
         n = self._A.shape[0]
         if self._A.shape != (n, n):
@@ -398,7 +399,7 @@ class NonlinearSystem:
             raise TypeError("f and g must be callables of (k, x, noise)")
         for name, S in (("W", W), ("V", V)):
             if not isinstance(S, ConvexSet):
-                raise TypeError(f"{name} must be a ConvexSet, got {type(S).__name__}")
+                raise TypeError(f"{name} must be a ConvexSet, {given_instead_of_set(S, name)}")
         self.f, self.g, self.W, self.V, self.n = f, g, W, V, check_dim(n, "n")
 
     def step(self, k: int, x: np.ndarray, w: np.ndarray) -> np.ndarray:
@@ -463,8 +464,12 @@ def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator | int |
         raise TypeError(f"T must be a non-negative integer, got {T!r}")
     if T < 0:
         raise ValueError(f"T must be a non-negative integer, got {T!r}")
-    if not isinstance(x0_set, ConvexSet) or x0_set.dim != system.n:
-        raise ValueError(f"x0_set must be a ConvexSet of dimension n = {system.n}")
+    if not isinstance(x0_set, ConvexSet):
+        raise ValueError(f"x0_set must be a ConvexSet of dimension n = {system.n}, "
+                         f"{given_instead_of_set(x0_set, 'x0_set')}")
+    if x0_set.dim != system.n:
+        raise ValueError(f"x0_set must be a ConvexSet of dimension n = {system.n}, got one of dimension "
+                         f"{x0_set.dim}")
     if x0 is None or ws is None or vs is None:
         rng = as_generator(rng)
     ws = None if ws is None else _given_noises(ws, "ws", T, system.W.dim)

@@ -22,7 +22,7 @@ from __future__ import annotations
 from typing import Any
 
 from .._validation import check_system, measured
-from ..filters.classical import classical_filter
+from ..filters.classical import _check_state_set, classical_filter
 from ..filters.consistency import check_on_inconsistent, first_inconsistency, report_inconsistency
 from ..results import SetEstimates
 from ..sets.algebra import generalized_intersection, minkowski_sum, translate
@@ -207,11 +207,6 @@ def _smoothing_step(system, k: int, posterior: ConvexSet, next_smoothed: ConvexS
     if u is not None:
         reachable_from = translate(reachable_from, -u)
     return generalized_intersection(posterior, system.A_at(k), reachable_from)
-
-
-def _check_state_set(S: Any, name: str, n: int) -> None:
-    if not isinstance(S, ConvexSet) or S.dim != n:
-        raise ValueError(f"{name} must be a ConvexSet of dimension n = {n}")
 
 
 def smoothed_ranges_from_trajectories(trajectories: ConvexSet, n: int) -> list[ConvexSet]:
