@@ -51,15 +51,13 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
 
-from ..solvers.certify import _ETA, gamma  # η = 2⁻¹⁰⁷⁴; γ_k = k·u / (1 − k·u)
+from ..floating import ETA, U, gamma  # u = 2⁻⁵³; η = 2⁻¹⁰⁷⁴; γ_k = k·u / (1 − k·u)
 
-__all__ = ["U", "gamma", "two_sum", "sum_with_error", "sum_down", "sum_up", "abs_matvec", "zeros_or",
+__all__ = ["two_sum", "sum_with_error", "sum_down", "sum_up", "abs_matvec", "zeros_or",
            "product_error", "products_exact", "rounded_up", "upper_bound", "residual_bound", "row_sums_bound",
            "extended_residual_bound",
            "chained_product_error", "add", "linear_image", "box_center_radius", "pad_hull", "mapped_pad",
            "PAD_GENERATORS_PER_DIM"]
-
-U = np.finfo(float).eps / 2  # unit roundoff 2⁻⁵³
 
 
 def two_sum(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -108,7 +106,7 @@ def upper_bound(values: np.ndarray, magnitude: np.ndarray, terms: int,
     up (η for each product that may have underflowed; ``absolute`` more such terms, e.g. the
     products a factor bound multiplies). Infinite and NaN values are returned as they are."""
     values = np.asarray(values, dtype=float)
-    err = 2.0 * gamma(terms + 1) * np.asarray(magnitude) + (terms + np.asarray(absolute)) * _ETA
+    err = 2.0 * gamma(terms + 1) * np.asarray(magnitude) + (terms + np.asarray(absolute)) * ETA
     with np.errstate(invalid="ignore", over="ignore"):
         out = np.nextafter(values + rounded_up(err, 2), np.inf)
     return np.where(np.isfinite(values), out, values)
@@ -221,8 +219,8 @@ def extended_residual_bound(pairs) -> np.ndarray:
     with np.errstate(over="ignore", invalid="ignore"):
         # the factor 2 covers the rounding of the magnitudes; (1 + 4u_x) the bound's own operations
         bound = (np.abs(res) + np.longdouble(2.0 * g) * mag) * np.longdouble(1.0 + 4.0 * _U_EXT)
-        out = np.nextafter(bound.astype(float), np.inf) + N * _ETA
-    plain = rounded_up(2.0 * gamma(N + 1) * mag.astype(float) + N * _ETA, 2)
+        out = np.nextafter(bound.astype(float), np.inf) + N * ETA
+    plain = rounded_up(2.0 * gamma(N + 1) * mag.astype(float) + N * ETA, 2)
     return np.where(np.isfinite(out), out, plain)
 
 
@@ -245,12 +243,12 @@ def row_sums_bound(X: np.ndarray, Y: np.ndarray) -> np.ndarray:
     with np.errstate(over="ignore", invalid="ignore"):
         tiny = ((np.abs(X * Y) < _DEKKER_MIN) & (X != 0) & (Y != 0)).any(axis=1)
     bound = (np.abs(res) * (1.0 + 2.0 * U) + 2.0 * g * g * magnitude
-             + np.where(tiny, 5.0 * N * _ETA, 0.0))
+             + np.where(tiny, 5.0 * N * ETA, 0.0))
     out = rounded_up(bound, 4)
     # an error-free evaluation (exact products and sums, none near underflow) is the sum itself
     out = np.where(clean & ~tiny & np.isfinite(p), np.abs(p), out)
     # overflow or NaN in the transformation: fall back to the plain γ bound of the sum
-    plain = rounded_up(2.0 * gamma(N + 1) * magnitude + N * _ETA, 2)
+    plain = rounded_up(2.0 * gamma(N + 1) * magnitude + N * ETA, 2)
     return np.where(np.isfinite(out), out, plain)
 
 
@@ -394,14 +392,14 @@ def product_error(M, X) -> np.ndarray | sp.spmatrix:
         one = (count == 1)
         rounded = (count > 1).maximum(one.multiply(single_error != 0)).maximum(
             one.multiply(small > 0)).astype(float)
-        E = magnitude.multiply(rounded) * (2.0 * float(gamma(k + 1))) + count.multiply(rounded) * _ETA
+        E = magnitude.multiply(rounded) * (2.0 * float(gamma(k + 1))) + count.multiply(rounded) * ETA
         return sp.csr_matrix(E)
     magnitude, count = np.asarray(magnitude), np.asarray(count)
     single_error = np.asarray(single_error)
     k = float(count.max(initial=0.0))
     P = np.asarray(P)
     rounded = (count > 1) | ((count == 1) & ((single_error != 0) | (np.abs(P) < _DEKKER_MIN)))
-    return np.where(rounded, 2.0 * gamma(k + 1) * magnitude + count * _ETA, 0.0)
+    return np.where(rounded, 2.0 * gamma(k + 1) * magnitude + count * ETA, 0.0)
 
 
 def _weighted_rows(E, h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -518,5 +516,5 @@ def box_center_radius(lo: np.ndarray, hi: np.ndarray):
     t, et = sum_with_error(hi, -lo)
     c, r = s / 2, t / 2
     halving_rounded = (2.0 * c != s) | (2.0 * r != t)  # subnormal halves: off by η/2 at most
-    pad = rounded_up((es + et) / 2 + np.where(((es + et) > 0) | halving_rounded, _ETA, 0.0), 2)
+    pad = rounded_up((es + et) / 2 + np.where(((es + et) > 0) | halving_rounded, ETA, 0.0), 2)
     return c, r, (pad if np.any(pad) else None)

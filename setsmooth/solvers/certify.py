@@ -23,25 +23,17 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from ..floating import ETA, U, gamma
 from .clarabel_lp import SolverError
 from .small_products import SmallProduct
 
-__all__ = ["gamma", "free_factor_bound", "normal_solver", "correct_multipliers", "certified_bound",
+__all__ = ["free_factor_bound", "normal_solver", "correct_multipliers", "certified_bound",
            "FREE_BOUND_DENSE_MAX", "Operators"]
-
-_U = np.finfo(float).eps / 2  # unit roundoff
-_ETA = float(np.nextafter(0.0, 1.0))  # 2⁻¹⁰⁷⁴: the absolute error of a product that underflows
 
 #: The bound on the free factors needs the smallest singular value of A_F, computed densely (an
 #: eigenvalue problem of the nF × nF Gram matrix) up to this many free factors; beyond, no rigorous
 #: bound is computed and a support with free factors is not certifiable.
 FREE_BOUND_DENSE_MAX = 2000
-
-
-def gamma(n: int | np.ndarray) -> np.ndarray:
-    """γ_n = n·u / (1 − n·u): the relative error bound of a floating-point sum of n terms."""
-    nu = np.asarray(n, dtype=float) * _U
-    return nu / (1.0 - nu)
 
 
 def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray,
@@ -90,7 +82,7 @@ def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray,
         gram = (AF.T @ AF).toarray()
         absAF = abs(AF)
         gram_err = float(gamma(A.shape[0] + 2) * np.linalg.norm((absAF.T @ absAF).toarray()))
-        eig_err = 8.0 * free.size * _U * np.linalg.norm(gram)
+        eig_err = 8.0 * free.size * U * np.linalg.norm(gram)
         lam_min = float(np.linalg.eigvalsh(gram)[0]) - gram_err - eig_err
     if not lam_min > 0:
         return None
@@ -233,14 +225,14 @@ def certified_bound(d: np.ndarray, G, c: np.ndarray, A: sp.csc_matrix, b: np.nda
     ops = Operators(G, A) if ops is None else ops
     g = np.asarray((ops.Gt @ d.T).T)
     # + (n + 1)·η per column: products that underflowed (their factor bound h_j multiplies it)
-    g_err = gamma(n + 1) * np.asarray((ops.absGt @ np.abs(d).T).T) + (n + 1) * _ETA
+    g_err = gamma(n + 1) * np.asarray((ops.absGt @ np.abs(d).T).T) + (n + 1) * ETA
     Atl = np.asarray((ops.At @ lam.T).T)
     absAtl = np.asarray((ops.absAt @ np.abs(lam).T).T)
     reduced = g - Atl
     # |computed r_j − exact r_j| ≤ γ_{m_j+2}(|g_j| + (|A|ᵀ|λ|)_j) + |g̃_j − g_j|; the computed |A|ᵀ|λ|
     # is itself inflated by (1 + γ) for its own rounding.
     gc = ops.gamma_cols
-    r_err = gc * (np.abs(g) + absAtl * (1.0 + gc)) + g_err + (nc + 1) * _ETA
+    r_err = gc * (np.abs(g) + absAtl * (1.0 + gc)) + g_err + (nc + 1) * ETA
     r_abs = np.abs(reduced) + r_err
     finite = np.isfinite(h)
     terms = r_abs[:, finite] @ h[finite]
@@ -261,7 +253,8 @@ def certified_bound(d: np.ndarray, G, c: np.ndarray, A: sp.csc_matrix, b: np.nda
             terms = terms + charge * free_bound
     # The rounding charges of the set algebra (`setsmooth.sets.rounding`): |d|ᵀpad + |λ|ᵀslack,
     # and β(|d|ᵀpad_free + |λ|ᵀslack_free) for rounded free columns; sums of nonnegative terms
-    # whose own rounding the (1 + γ) below covers.
+    # whose own rounding the (1 + γ) below covers. (Imported here: `setsmooth.sets` is built on
+    # `setsmooth.solvers`, so a module-level import would start the sets package half-way.)
     from ..sets.rounding import abs_matvec
 
     rounding_charge = np.zeros(d.shape[0])
@@ -296,13 +289,13 @@ def certified_bound(d: np.ndarray, G, c: np.ndarray, A: sp.csc_matrix, b: np.nda
     err = (gamma(n) * mag_c + gamma(nc) * mag_b + 2.0 * gamma(ng + 4) * np.abs(terms)
            + gamma(3) * (np.abs(offset) + np.abs(blam) + np.abs(terms) + np.abs(total)))
     nterms = n + nc + ng + 8
-    err = err + (n + nc + 4) * _ETA  # dᵀc and bᵀλ products that underflowed
+    err = err + (n + nc + 4) * ETA  # dᵀc and bᵀλ products that underflowed
     bound = np.nextafter(total + err * (1.0 + gamma(nterms)), np.inf)
     # The charges are added last, so that the bound of the stored set stays available as it was
     # (a bracket on the solver's answer), however large they are: one addition, rounded up.
     with np.errstate(invalid="ignore"):
         charged = bound + added
-        charged = np.where(added > 0, np.nextafter(charged + 2.0 * _U * np.abs(charged), np.inf),
+        charged = np.where(added > 0, np.nextafter(charged + 2.0 * U * np.abs(charged), np.inf),
                            bound)
     if with_charge:
         with np.errstate(invalid="ignore"):

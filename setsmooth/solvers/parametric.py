@@ -29,8 +29,9 @@ import clarabel
 import numpy as np
 import scipy.sparse as sp
 
+from ..floating import U, gamma
 from . import clarabel_lp
-from .certify import FREE_BOUND_DENSE_MAX, _U, certified_bound, gamma
+from .certify import FREE_BOUND_DENSE_MAX, certified_bound
 from .clarabel_lp import SolverError, _csc, _zero_cost
 from .instances import cached_instance
 
@@ -200,5 +201,5 @@ def _free_lam_min(A: sp.csc_matrix, free_cols: np.ndarray) -> float | None:
     gram = (AF.T @ AF).toarray()
     absAF = abs(AF)
     gram_err = float(gamma(A.shape[0] + 2) * np.linalg.norm((absAF.T @ absAF).toarray()))
-    eig_err = 8.0 * free_cols.size * _U * np.linalg.norm(gram)
+    eig_err = 8.0 * free_cols.size * U * np.linalg.norm(gram)
     return float(np.linalg.eigvalsh(gram)[0]) - gram_err - eig_err

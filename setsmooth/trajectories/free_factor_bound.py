@@ -22,7 +22,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from ..solvers.certify import free_factor_bound, gamma
+from ..floating import gamma
+from ..solvers.certify import free_factor_bound
 
 __all__ = ["banded_free_factor_bound", "gram_lower_bound", "BANDED_MAX_BANDWIDTH"]
 

@@ -1,0 +1,25 @@
+"""The error constants of binary64 arithmetic, shared by the set algebra's rounding charges
+(`setsmooth.sets.rounding`) and the certified support values (`setsmooth.solvers.certify`).
+
+Higham, *Accuracy and Stability of Numerical Algorithms* (2nd ed., §2.2, §3.1): a computed sum of n
+products is off by at most γ_n times the sum of their magnitudes, plus n·η for products that
+underflow.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["U", "ETA", "gamma"]
+
+#: The unit roundoff u = 2⁻⁵³.
+U = np.finfo(float).eps / 2
+
+#: η = 2⁻¹⁰⁷⁴, the smallest subnormal: the absolute error of a product that underflows.
+ETA = float(np.nextafter(0.0, 1.0))
+
+
+def gamma(n: int | np.ndarray) -> np.ndarray:
+    """γ_n = n·u / (1 − n·u): the relative error bound of a floating-point sum of n terms."""
+    nu = np.asarray(n, dtype=float) * U
+    return nu / (1.0 - nu)
