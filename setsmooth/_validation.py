@@ -150,14 +150,18 @@ def check_rng(rng: Any) -> np.random.Generator:
 
 
 def as_generator(rng: Any, name: str = "rng") -> np.random.Generator:
-    """A `numpy.random.Generator` as given, or ``numpy.random.default_rng(seed)`` for an int seed ≥ 0."""
+    """A `numpy.random.Generator` as given, or ``numpy.random.default_rng(rng)`` for an int seed ≥ 0 or
+    None (fresh entropy from the operating system), as NumPy's own ``default_rng`` takes them."""
     if isinstance(rng, np.random.Generator):
         return rng
+    if rng is None:
+        return np.random.default_rng()
     if isinstance(rng, (int, np.integer)) and not isinstance(rng, (bool, np.bool_)):
         if rng < 0:
             raise ValueError(f"{name} must be a non-negative int seed or a numpy.random.Generator, got {rng}")
         return np.random.default_rng(int(rng))
-    raise TypeError(f"{name} must be an int seed or a numpy.random.Generator, got {type(rng).__name__}")
+    raise TypeError(f"{name} must be an int seed or a numpy.random.Generator (or None for fresh entropy), "
+                    f"got {type(rng).__name__}")
 
 
 def check_count(value: Any, name: str = "size") -> int:

@@ -103,7 +103,7 @@ def test_trial_errors_propagate():
     (dict(n_runs=True), TypeError, "n_runs"),
     (dict(trial="draw"), TypeError, "trial"),
     (dict(seed=-1), ValueError, "seed"),
-    (dict(seed=None), TypeError, "seed"),
+    (dict(seed="0"), TypeError, "seed"),
     (dict(executor="threads"), TypeError, "executor"),
     (dict(workers=0), ValueError, "workers"),
 ])

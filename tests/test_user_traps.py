@@ -55,7 +55,29 @@ def test_montecarlo_with_one_generator_twice_gives_new_independent_runs():
     assert not np.isin(np.ravel(second), np.ravel(first)).any()
 
 
-@pytest.mark.parametrize("seed", ["5", 5.0, None, True])
+def _fresh_entropy_runs(seed):
+    return run(draw, 3, seed=seed, executor="serial", progress=False)
+
+
+@pytest.mark.parametrize("call", [lambda rng: ss.simulate(_system(), X0, 4, rng)[1], _fresh_entropy_runs])
+def test_none_means_fresh_entropy_as_in_numpy(call):
+    first, second = call(None), call(None)     # numpy.random.default_rng(None): a new root each call
+    assert np.all(np.isfinite(first)) and not np.array_equal(first, second)
+
+
+def fail_with_a_draw(rng):
+    raise RuntimeError(f"drew {rng.standard_normal()!r}")
+
+
+def test_a_run_from_fresh_entropy_can_still_be_replayed():
+    with pytest.raises(RuntimeError, match="drew") as info:
+        run(fail_with_a_draw, 2, seed=None, executor="serial", progress=False)
+    replay = " ".join(info.value.__notes__).split("replay it with trial(", 1)[1][:-1]
+    with pytest.raises(RuntimeError, match=f"^{info.value}$"):
+        fail_with_a_draw(eval(replay, {"numpy": np}))
+
+
+@pytest.mark.parametrize("seed", ["5", 5.0, True])
 def test_montecarlo_refuses_other_seeds_naming_seed(seed):
     with pytest.raises(TypeError, match="seed must be an integer or a numpy.random.Generator"):
         run(draw, 3, seed=seed, executor="serial", progress=False)

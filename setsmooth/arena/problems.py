@@ -189,14 +189,15 @@ def check_problems(names: Any, argument: str = "problems") -> list[str]:
 
 
 def make_problem(name: str, rng: Any, horizon: int | None = None) -> Problem:
-    """Draw problem ``name`` from ``rng`` (a Generator or an int seed), over ``horizon`` steps.
+    """Draw problem ``name`` from ``rng`` (a Generator, an int seed or None), over ``horizon`` steps.
 
     Parameters
     ----------
     name : str
         A key of `PROBLEMS`.
-    rng : numpy.random.Generator or int
-        The only source of randomness (system, when random, then x_0 and the noises).
+    rng : numpy.random.Generator, int or None
+        The only source of randomness (system, when random, then x_0 and the noises), as
+        ``numpy.random.default_rng`` takes it (None: fresh entropy).
     horizon : int, optional
         T (measurements y_0..y_T); the problem's own default when None.
 

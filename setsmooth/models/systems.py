@@ -423,8 +423,9 @@ def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator | int |
     T : int
         Final time step; states and measurements are returned for k = 0..T.
     rng : numpy.random.Generator, int or None
-        The only source of randomness: a Generator, or an int seed of ``numpy.random.default_rng``;
-        may be None when ``x0``, ``ws`` and ``vs`` are all given.
+        The only source of randomness, taken as ``numpy.random.default_rng`` takes it: a Generator
+        (used as is), an int seed, or None for fresh entropy from the operating system (a trajectory
+        that cannot be replayed; nothing is drawn when ``x0``, ``ws`` and ``vs`` are all given).
     x0 : array_like, optional
         A fixed initial state; it must lie in ``x0_set`` (membership up to the default margin).
     ws : array_like, shape (T, p), optional
@@ -445,7 +446,7 @@ def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator | int |
     ------
     TypeError
         When ``system`` is not a setsmooth system (a `control.StateSpace` is led to
-        `LinearSystem.from_statespace`), ``rng`` is neither a Generator nor an int seed, ``T`` not an
+        `LinearSystem.from_statespace`), ``rng`` is neither a Generator, an int seed nor None, ``T`` not an
         integer, or ``x0`` complex or not numeric.
     ValueError
         When ``T < 0``, ``x0_set`` has the wrong dimension, or ``x0`` is NaN/inf, of the wrong length

@@ -27,7 +27,7 @@ R = TypeVar("R")
 _MAX_CHUNK = 64
 
 
-def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int | np.random.Generator,
+def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int | np.random.Generator | None,
         executor: Executor | str | None = None, progress: bool | Callable = True,
         workers: int | None = None) -> list[R]:
     """Call ``trial(rng)`` for ``n_runs`` independent generators and return the results in run order.
@@ -40,10 +40,12 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int | np.r
         `functools.partial` of one.
     n_runs : int
         Number of runs, at least 1.
-    seed : int or numpy.random.Generator
+    seed : int, numpy.random.Generator or None
         Non-negative root seed: run i uses the i-th child of ``numpy.random.SeedSequence(seed)``. Or a
         Generator: the runs use children spawned from its seed sequence (as `Generator.spawn` does),
-        so two calls with one Generator give different, independent runs.
+        so two calls with one Generator give different, independent runs. Or None, as
+        ``numpy.random.default_rng(None)`` takes it: a root drawn from fresh operating-system entropy,
+        so every call gives new runs (a failing run's note still prints the entropy that replays it).
     executor : concurrent.futures.Executor, distributed.Client, 'serial' or None
         None: a `ProcessPoolExecutor` with ``workers`` processes, created and shut down here (a single
         run is executed in-process). 'serial': every run in this process, in order. An `Executor`
@@ -71,7 +73,7 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int | np.r
         run in run order (with a Dask client, the first to fail).
     TypeError
         When ``trial`` is not callable, ``n_runs``/``workers`` are not integers, ``seed`` is neither
-        an integer nor a Generator with a seed sequence, ``executor`` is neither None, 'serial', an
+        an integer, None nor a Generator with a seed sequence, ``executor`` is neither None, 'serial', an
         Executor nor a Dask client, or a process pool would run a ``trial`` that cannot be pickled
         (a lambda, a local function, a partial of one): checked before the pool starts.
     ValueError
@@ -125,14 +127,17 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int | np.r
 
 def _root_seed_sequence(seed: Any) -> np.random.SeedSequence:
     """The sequence the runs' generators are spawned from: SeedSequence(seed), or a Generator's own."""
+    if seed is None:
+        return np.random.SeedSequence()   # fresh entropy, kept in its .entropy for a replay
     if isinstance(seed, np.random.Generator):
         root = seed.bit_generator.seed_seq
         if not isinstance(root, np.random.SeedSequence):  # a bit generator seeded the legacy way
             raise TypeError("seed is a numpy.random.Generator without a SeedSequence to spawn runs "
-                            "from; pass numpy.random.default_rng(...) or an int seed")
+                            "from; pass numpy.random.default_rng(...), an int seed or None")
         return root
     return np.random.SeedSequence(_integer(seed, "seed", minimum=0,
-                                           what="an integer or a numpy.random.Generator"))
+                                           what="an integer or a numpy.random.Generator (or None for "
+                                                "fresh entropy)"))
 
 
 def _is_dask_client(obj: Any) -> bool:
