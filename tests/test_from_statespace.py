@@ -202,8 +202,10 @@ def test_simulate_uses_given_noise_sequences_and_checks_their_shape():
         ss.simulate(system, ss.Box([-1.0], [1.0]), 2, None, x0=[1.0], ws=[[0.0]], vs=[0, 0, 0])
     with pytest.raises(ValueError, match=r"vs\[1\]"):
         ss.simulate(system, ss.Box([-1.0], [1.0]), 2, None, x0=[1.0], ws=[0, 0], vs=[0, np.inf, 0])
+    xs, ys = ss.simulate(system, ss.Box([-1.0], [1.0]), 2, None, x0=[1.0], ws=[0, 0])  # vs: fresh entropy
+    assert np.allclose(xs[:, 0], [1.0, 0.5, 0.25]) and np.all(np.abs(ys[:, 0] - 2 * xs[:, 0]) <= 1.0)
     with pytest.raises(TypeError, match="rng"):
-        ss.simulate(system, ss.Box([-1.0], [1.0]), 2, None, x0=[1.0], ws=[0, 0])
+        ss.simulate(system, ss.Box([-1.0], [1.0]), 2, "0", x0=[1.0], ws=[0, 0])
 
 
 def test_sampling_time_is_validated_and_sets_the_tube_plot_time_axis():
