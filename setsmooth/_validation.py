@@ -234,11 +234,16 @@ def as_measurements(ys: Any, m: int) -> np.ndarray:
 def measured(system: Any, ys: Any) -> tuple[Any, np.ndarray]:
     """The estimators' door: the checked system and measurements, without the known feedthrough.
 
-    ``check_system``, then ``as_measurements``, then y_k − D_k u_k for a `LinearSystem` with a
-    feedthrough (`LinearSystem.without_feedthrough`: the system returned has none, so an estimator
-    calling another through its door subtracts nothing twice). Inside, y_k = C_k x_k + F_k v_k.
+    ``check_system``, then ``as_measurements``, then the known input's rows against T
+    (`LinearSystem.check_input`, which names ``u`` with the shape expected and the shape given), then
+    y_k − D_k u_k for a `LinearSystem` with a feedthrough (`LinearSystem.without_feedthrough`: the
+    system returned has none, so an estimator calling another through its door subtracts nothing
+    twice). Inside, y_k = C_k x_k + F_k v_k.
     """
     ys = as_measurements(ys, check_system(system).m)
+    check_input = getattr(system, "check_input", None)
+    if check_input is not None:
+        check_input(len(ys) - 1)
     if getattr(system, "has_feedthrough", False):
         system, ys = system.without_feedthrough(ys)
     return system, ys

@@ -74,6 +74,25 @@ def test_simulate_adds_the_known_input_to_the_state_and_its_feedthrough_to_the_m
     assert np.all(np.abs(v) <= 0.1 + 1e-12)
 
 
+def test_a_feedthrough_needs_the_input_at_every_measurement_and_a_short_u_is_named_at_the_door():
+    # y_T = C x_T + D u_T: with D the input has T+1 rows; without, u_T is not used and T rows suffice
+    short = _system(u=U[:T])
+    expected = (rf"^u must have shape \(T\+1, n_u\) = \({T + 1}, 1\) for the measurements y_0..y_{T} "
+                rf"\(the feedthrough .*\), got \({T}, 1\)$")
+    ys = np.zeros((T + 1, 1))
+    for call in (lambda: ss.simulate(short, X0, T, 0), lambda: ss.classical_filter(short, X0, ys),
+                 lambda: ss.optimal_smoother(short, X0, ys), lambda: ss.oit_cz_filter(short, X0, ys),
+                 lambda: ss.kalman_filter(short, ys, np.zeros(2), np.eye(2), 0.01, 0.01)):
+        with pytest.raises(ValueError, match=expected):
+            call()
+    no_feedthrough = _system(D=None, u=U[:T])
+    xs, ys = ss.simulate(no_feedthrough, X0, T, 3)
+    assert ss.classical_filter(no_feedthrough, X0, ys).contains_trajectory(xs).all()
+    with pytest.raises(ValueError, match=rf"^u must have shape .*\({T + 1}, 1\).* {T} rows suffice\), "
+                                         rf"got \({T - 1}, 1\)$"):
+        ss.classical_filter(_system(D=None, u=U[:T - 1]), X0, ys)
+
+
 def _hulls(estimates):
     return np.array([S.interval_hull().lo for S in estimates]), np.array([S.interval_hull().hi for S in estimates])
 

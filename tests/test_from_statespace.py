@@ -176,7 +176,7 @@ def test_f_is_the_noise_matrix_and_statespace_d_the_feedthrough():
     (dict(), r"inputs \[0, 1\] are known inputs .* or select the noise inputs with noise_inputs="),
     (dict(noise_inputs=[0, 1]), "W must have one coordinate per noise input"),
     (dict(noise_inputs=[0, 1], u=np.zeros((3, 1))), "every statespace input is a noise input"),
-    (dict(noise_inputs=[1], u=np.zeros((3, 2))), r"u must have shape \(T, n_u=1\)"),
+    (dict(noise_inputs=[1], u=np.zeros((3, 2))), r"u must have shape \(T\+1, n_u=1\)"),
     (dict(noise_inputs=[1], u=np.zeros((1, 3))), r"u has shape \(1, 3\), python-control's orientation"),
     (dict(noise_inputs=[1], u=[[0.0], [np.nan]]), r"u\[1\]"),
     (dict(noise_inputs=[1], E=[[1.0]], u=np.zeros((3, 1))), "E= and noise_inputs= both"),

@@ -80,7 +80,7 @@ def test_from_statespace_rejects_feedthrough_from_a_noise_input():
     (dict(V=ss.Box([-1, -1], [1, 1]), F=None), r"F=None means F = I, which needs V.dim = m = 1"),
     (dict(A=[np.eye(2), np.eye(3)]), r"A\[1\] has shape \(3, 3\) but A\[0\] has shape \(2, 2\)"),
     (dict(W="box"), "W must be a ConvexSet"),
-    (dict(u=np.ones((5, 3))), r"u must have shape \(T, n_u=1\)"),
+    (dict(u=np.ones((5, 3))), r"u must have shape \(T\+1, n_u=1\)"),
 ])
 def test_linear_system_rejects_inconsistent_dimensions(kwargs, match):
     args = dict(A=np.eye(2), B=np.ones((2, 1)), C=np.ones((1, 2)), D=np.ones((1, 1)), E=np.ones((2, 1)),

@@ -183,6 +183,8 @@ def _validate(system: Any, ys: Any, x0_mean: Any,
     n = check_dim(getattr(system, "n", None), "system.n")
     m = _mat(system.C_at(0), "C(0)", None, n).shape[0]
     arr = as_measurements(ys, m)
+    if callable(getattr(system, "check_input", None)):
+        system.check_input(len(arr) - 1)
     if getattr(system, "has_feedthrough", False):
         system, arr = system.without_feedthrough(arr)
     mean = as_vector(x0_mean, "x0_mean", n)

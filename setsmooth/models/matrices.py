@@ -3,7 +3,8 @@
 x_{k+1} = A_k x_k + B_k u_k + E_k w_k,   y_k = C_k x_k + D_k u_k + F_k v_k: A, B, C, D as python-control
 names them (B the known-input matrix, D the feedthrough), E, F the noise matrices as CORA's
 ``linearSysDT`` names them. Each matrix may be constant, a sequence indexed by k or a callable of k
-(`TimeVarying`); the known input u is time-first, shape (T, n_u), or a callable k -> (n_u,)
+(`TimeVarying`); the known input u is time-first, shape (T+1, n_u) like the measurements (y_T reads
+u_T through D; without a feedthrough u_T is unused and T rows suffice), or a callable k -> (n_u,)
 (`InputSequence`). The smoothing paper's Φ, Γ, Ξ, Ψ are A, E, C, F.
 """
 
@@ -110,15 +111,15 @@ class InputSequence:
             as_vector(u(0), "u(0)", n_u)
             self._call = u
             return
-        rows = real_array(u, "u", f"an array of shape (T, n_u={n_u})")
+        rows = real_array(u, "u", f"an array of shape (T+1, n_u={n_u})")
         if rows.ndim == 1 and n_u == 1:
             rows = rows[:, None]
         if rows.ndim == 2 and rows.shape[1] != n_u and rows.shape[0] == n_u:
             raise ValueError(f"u has shape {rows.shape}, python-control's orientation (inputs × time); "
-                             f"setsmooth's arrays are time-first, shape (T, n_u={n_u}): pass u.T")
+                             f"setsmooth's arrays are time-first, shape (T+1, n_u={n_u}): pass u.T")
         if rows.ndim != 2 or rows.shape[1] != n_u:
-            raise ValueError(f"u must have shape (T, n_u={n_u}), one row u_k per step (time first), "
-                             f"got {rows.shape}")
+            raise ValueError(f"u must have shape (T+1, n_u={n_u}), one row u_k per step k = 0..T (time "
+                             f"first), got {rows.shape}")
         bad = np.flatnonzero(~np.isfinite(rows).all(axis=1))
         if bad.size:
             as_vector(rows[bad[0]], f"u[{bad[0]}]", n_u)  # raises, naming the first bad row
@@ -135,6 +136,22 @@ class InputSequence:
     def kind(self) -> str:
         return "callable of k" if self._call is not None else f"{len(self._rows)} steps"
 
+    def check_steps(self, T: int, feedthrough: bool) -> None:
+        """Raise unless the rows cover steps 0..T: u_0..u_T with a feedthrough (y_T = C_T x_T + D_T u_T),
+        u_0..u_{T−1} without (x_T = A x_{T−1} + B u_{T−1}); more rows are not used. A callable is
+        checked at each call instead."""
+        if self._rows is None:
+            return
+        needed = T + 1 if feedthrough else T
+        if len(self._rows) >= needed:
+            return
+        shape = f"(T+1, n_u) = ({T + 1}, {self.n_u})"
+        why = (f"the feedthrough D u_k enters every measurement, y_{T} included" if feedthrough else
+               f"B u_k enters x_{{k+1}} for k = 0..{T - 1}; without a feedthrough u_{T} is not used, so "
+               f"{T} rows suffice")
+        raise ValueError(f"u must have shape {shape} for the measurements y_0..y_{T} ({why}), got "
+                         f"{self._rows.shape}")
+
 
 def known_input(B: MatrixSpec, D: MatrixSpec, u: Any, n: int,
                 m: int) -> tuple[TimeVarying, TimeVarying, InputSequence | None]:
@@ -147,7 +164,7 @@ def known_input(B: MatrixSpec, D: MatrixSpec, u: Any, n: int,
     if u is None:
         if B is not None:
             raise ValueError("B is python-control's known-input matrix (x_{k+1} = A x_k + B u_k + E w_k) "
-                             "and was given without the input sequence u= (shape (T, n_u), time first). "
+                             "and was given without the input sequence u= (shape (T+1, n_u), time first). "
                              "Pass u=, or B=None for no known input. A process-noise matrix (the "
                              "smoothing paper's Γ) goes in E=, a measurement-noise matrix (Ψ) in F=")
         if not no_feedthrough and not _is_zero_constant(D):

@@ -36,7 +36,7 @@ def linear_system_from_statespace(cls, statespace, *, W: ConvexSet, V: ConvexSet
     if known.size and u is None:
         raise ValueError(f"the statespace's inputs {known.tolist()} are known inputs (its B and D act "
                          f"on them, as in python-control): pass their samples as u=, shape "
-                         f"(T, {known.size}), time first; or select the noise inputs with noise_inputs=")
+                         f"(T+1, {known.size}), time first; or select the noise inputs with noise_inputs=")
     if not known.size and u is not None:
         raise ValueError("u= was given but every statespace input is a noise input (noise_inputs=), "
                          "or the statespace has no input")

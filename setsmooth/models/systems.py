@@ -32,9 +32,10 @@ class LinearSystem:
     smoothing paper (13)–(14) (stability paper (1)–(2)) they are Φ_k = A_k, Γ_k = E_k, Ξ_k = C_k,
     Ψ_k = F_k, without the known input (``docs/migration.md`` maps the names).
 
-    Arrays over time are time-first throughout setsmooth: the input ``u`` has shape (T, n_u), the
-    measurements ``ys`` (T+1, m), the states ``xs`` (T+1, n), one row per step. python-control's
-    (signals × time) arrays are refused with a message saying so, never transposed by guessing.
+    Arrays over time are time-first throughout setsmooth: the input ``u`` has shape (T+1, n_u), the
+    measurements ``ys`` (T+1, m), the states ``xs`` (T+1, n), one row per step k = 0..T (without a
+    feedthrough u_T is not used, and T rows of ``u`` suffice). python-control's (signals × time)
+    arrays are refused with a message saying so, never transposed by guessing.
 
     Parameters
     ----------
@@ -53,9 +54,11 @@ class LinearSystem:
         F_k (m×q), the measurement-noise matrix; None: the identity (then V.dim must be m).
     W, V : ConvexSet, keyword-only
         Ranges of the process noise (dim p) and the measurement noise (dim q).
-    u : array_like of shape (T, n_u), or callable k -> (n_u,), optional, keyword-only
-        The known input u_0, u_1, ... (time first). It enters x_{k+1} through B and y_k through D,
-        so with a feedthrough it needs a row for every measurement. Requires B or D.
+    u : array_like of shape (T+1, n_u), or callable k -> (n_u,), optional, keyword-only
+        The known input u_0..u_T (time first), a row per measurement y_0..y_T: it enters x_{k+1}
+        through B and y_k through D, so y_T = C_T x_T + D_T u_T reads u_T. Without a feedthrough
+        u_T is not used and T rows suffice; more rows than the data need are not used. The
+        estimators and `simulate` check the rows against their T. Requires B or D.
     dt : float, optional, keyword-only
         Sampling time in seconds, when the steps sample a continuous-time plant (`from_statespace`
         sets it); kept for time axes, not used by the estimators. None: unspecified.
@@ -76,7 +79,7 @@ class LinearSystem:
     ValueError
         When B, or a nonzero D, is given without ``u`` (the message says that B is python-control's
         known-input matrix and that the noise matrices go in ``E=`` and ``F=``), ``u`` without B or
-        D, ``u`` in python-control's (n_u, T) orientation; when E or F is None and W or V is not of
+        D, ``u`` in python-control's (n_u, T+1) orientation; when E or F is None and W or V is not of
         dimension n or m; when dimensions of matrices and noise sets disagree, or a value is NaN or
         infinite; the message names it as given (``A``, ``A[2]`` for a sequence, ``A(0)`` for a
         callable, ``u[3]``).
@@ -97,7 +100,7 @@ class LinearSystem:
     >>> sys.n, sys.m, sys.E.tolist()
     (2, 1, [[1.0, 0.0], [0.0, 1.0]])
     >>> sys = ss.LinearSystem(np.eye(2), [[0.0], [1.0]], [[1.0, 0.0]], 0, E=[[1.0], [0.5]],
-    ...                       W=ss.Box([-1], [1]), V=ss.Box([-1], [1]), u=np.ones((10, 1)))
+    ...                       W=ss.Box([-1], [1]), V=ss.Box([-1], [1]), u=np.ones((11, 1)))
     >>> sys.n_u, sys.B_at(3).shape
     (1, (2, 1))
     """
@@ -207,6 +210,24 @@ class LinearSystem:
     def has_feedthrough(self) -> bool:
         """Whether the known input reaches the measurements (D given and not a constant zero)."""
         return self._u is not None and not self._D.is_zero
+
+    def check_input(self, T: int) -> None:
+        """Raise unless the known input covers the measurements y_0..y_T: u_0..u_T with a feedthrough
+        (y_T reads D_T u_T), u_0..u_{T−1} without; checked once at the estimators' door and in
+        `simulate`, so a short ``u`` is named there with the shape expected and the shape given.
+
+        Parameters
+        ----------
+        T : int
+            The last step of the data (measurements y_0..y_T).
+
+        Raises
+        ------
+        ValueError
+            Naming ``u``, the shape (T+1, n_u) and the shape given.
+        """
+        if self._u is not None:
+            self._u.check_steps(T, self.has_feedthrough)
 
     def input_term(self, k: int) -> np.ndarray:
         """B_k u_k, the known term of x_{k+1} (zeros without input)."""
@@ -329,8 +350,9 @@ class LinearSystem:
             identity by default (W.dim = n). Not with ``noise_inputs``, which selects it from B.
         F : array_like, optional, keyword-only
             Measurement-noise matrix (m × V.dim); the identity by default (V.dim = m).
-        u : array_like of shape (T, n_u), or callable k -> (n_u,), optional, keyword-only
-            Samples u_k of the known inputs, time first (required when the plant has known inputs).
+        u : array_like of shape (T+1, n_u), or callable k -> (n_u,), optional, keyword-only
+            Samples u_0..u_T of the known inputs, time first (required when the plant has known
+            inputs); as in `LinearSystem`, T rows suffice without a feedthrough.
         noise_inputs : sequence of int, optional, keyword-only
             Indices of the statespace inputs that are noises w; the others are known inputs. None
             (default): every input is a known input.
@@ -362,7 +384,7 @@ class LinearSystem:
         >>> import control, numpy as np, setsmooth as ss
         >>> plant = control.ss([[0.0, 1.0], [-4.0, -0.4]], [[0.0, 0.0], [1.0, 1.0]], [[1.0, 0.0]], 0)
         >>> system = ss.LinearSystem.from_statespace(plant, W=ss.Box([-0.5], [0.5]), V=ss.Box([-0.1], [0.1]),
-        ...                                          noise_inputs=[1], u=np.ones((20, 1)), dt=0.1)
+        ...                                          noise_inputs=[1], u=np.ones((21, 1)), dt=0.1)
         >>> system.n, system.n_u, system.W.dim, system.dt, system.has_input
         (2, 1, 2, 0.1, True)
         """
@@ -449,7 +471,8 @@ def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator | int |
         `LinearSystem.from_statespace`), ``rng`` is neither a Generator, an int seed nor None, ``T`` not an
         integer, or ``x0`` complex or not numeric.
     ValueError
-        When ``T < 0``, ``x0_set`` has the wrong dimension, or ``x0`` is NaN/inf, of the wrong length
+        When ``T < 0``, ``u`` has fewer rows than steps 0..T read (`LinearSystem.check_input`),
+        ``x0_set`` has the wrong dimension, or ``x0`` is NaN/inf, of the wrong length
         or outside ``x0_set``; when W or V cannot be sampled uniformly (flat, unbounded: the message
         says that ``ws=``/``vs=`` avoid the draw); or a matrix, input or transition value at some
         step is bad (named as ``A(k)``, ``u(k)``, ``f(k, x, w)``).
@@ -471,6 +494,8 @@ def simulate(system, x0_set: ConvexSet, T: int, rng: np.random.Generator | int |
     if x0_set.dim != system.n:
         raise ValueError(f"x0_set must be a ConvexSet of dimension n = {system.n}, got one of dimension "
                          f"{x0_set.dim}")
+    if isinstance(system, LinearSystem):
+        system.check_input(T)
     if x0 is None or ws is None or vs is None:
         rng = as_generator(rng)
     ws = None if ws is None else _given_noises(ws, "ws", T, system.W.dim)
