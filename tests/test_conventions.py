@@ -128,9 +128,15 @@ def test_an_inconsistency_names_the_measurement_as_given():
     ys[6] += 3.0
     found = ss.first_inconsistency(system, X0, ys)
     assert found.step == 6 and np.array_equal(found.measurement, ys[6])
-    with pytest.warns(ss.ModelInvalidationWarning) as caught:
-        ss.classical_filter(system, X0, ys)
-    assert np.array_equal(caught[0].message.inconsistency.measurement, ys[6])
+    quoted = np.array2string(ys[6], precision=4)
+    for estimator in (ss.classical_filter, ss.optimal_smoother, ss.oit_cz_filter, ss.oit_inspired_filter,
+                      lambda *args: ss.optimal_smoother(*args, method="recursion")):
+        with pytest.warns(ss.ModelInvalidationWarning) as caught:
+            estimator(system, X0, ys)
+        found = [w.message for w in caught if isinstance(w.message, ss.ModelInvalidationWarning)]
+        assert len(found) == 1 and found[0].inconsistency.step == 6
+        # y_6 as given, not y_6 − D u_6 (0.5 u_6 apart here)
+        assert np.array_equal(found[0].inconsistency.measurement, ys[6]) and f"y_6 = {quoted}" in str(found[0])
 
 
 def test_python_control_orientation_is_refused_not_transposed():

@@ -143,9 +143,12 @@ def first_inconsistency(system, X0: ConvexSet, ys: Any,
     closest = _predicted_outputs(system, k, prior).center(method="closest", reference=y,
                                                            norm=np.inf)
     distance = float(np.abs(closest - y).max()) if np.all(np.isfinite(closest)) else np.inf
-    if system is not given:  # the measurement as given, with its feedthrough D_k u_k
-        y = y + given.feedthrough_term(k)
-    return Inconsistency(k, y, distance)
+    return Inconsistency(k, _as_given(y, k, system, given), distance)
+
+
+def _as_given(y: np.ndarray, k: int, system, given) -> np.ndarray:
+    """y_k as the user gave it: the feedthrough D_k u_k that the estimators' door took off, added back."""
+    return y if given is None or given is system else y + given.feedthrough_term(k)
 
 
 def report_inconsistency(found: Inconsistency | None, on_inconsistent: str) -> None:
@@ -165,8 +168,8 @@ def check_on_inconsistent(on_inconsistent: Any) -> None:
         raise ValueError(f"on_inconsistent must be one of {ON_INCONSISTENT}, got {on_inconsistent!r}")
 
 
-def outer_inconsistency(system, X0: ConvexSet, ys: np.ndarray, estimates: list,
-                        estimator: str) -> Inconsistency | None:
+def outer_inconsistency(system, X0: ConvexSet, ys: np.ndarray, estimates: list, estimator: str,
+                        given: Any = None) -> Inconsistency | None:
     """The first empty estimate of an outer-bound estimator, as an `Inconsistency`, or None.
 
     The estimator marks an empty estimate as an `EmptySet` (``estimates[k]``, k indexing ``ys``). Each
@@ -186,6 +189,9 @@ def outer_inconsistency(system, X0: ConvexSet, ys: np.ndarray, estimates: list,
     estimates : list of ConvexSet
     estimator : str
         Its name, for the message.
+    given : LinearSystem, optional
+        The system as the user gave it, when the door took its feedthrough off ``ys``: the reported
+        measurement is then y_k as given, D_k u_k included (as `first_inconsistency` reports it).
     """
     k = next((k for k, S in enumerate(estimates) if isinstance(S, EmptySet)), None)
     if k is None:
@@ -196,4 +202,4 @@ def outer_inconsistency(system, X0: ConvexSet, ys: np.ndarray, estimates: list,
     y = ys[k]
     closest = _predicted_outputs(system, k, prior).center(method="closest", reference=y, norm=np.inf)
     distance = float(np.abs(closest - y).max()) if np.all(np.isfinite(closest)) else np.inf
-    return Inconsistency(k, y, distance, estimator)
+    return Inconsistency(k, _as_given(y, k, system, given), distance, estimator)

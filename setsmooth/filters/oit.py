@@ -159,7 +159,7 @@ def oit_inspired_filter(system, X0: ConvexSet, ys: Any, *, delta: int | None = N
         If ``delta`` < k_* or the system is time varying; `ModelInvalidatedError` (a ValueError) for
         inconsistent data with ``on_inconsistent='raise'``.
     """
-    system, ys = measured(system, ys)
+    given, system, ys = system, *measured(system, ys)
     _check_state_set(X0, "X0", system.n)
     check_on_inconsistent(on_inconsistent)
     st = _structure(system, decomposition)
@@ -188,7 +188,8 @@ def oit_inspired_filter(system, X0: ConvexSet, ys: Any, *, delta: int | None = N
         estimates[first:] = [EmptySet(system.n) for _ in range(first, T + 1)]
     result = SetEstimates(estimates, system=system, X0=X0, ys=ys, kind="OIT-inspired", outer=True)
     if on_inconsistent != "ignore":
-        report_inconsistency(outer_inconsistency(system, X0, ys, result, "OIT-inspired"), on_inconsistent)
+        report_inconsistency(outer_inconsistency(system, X0, ys, result, "OIT-inspired", given),
+                             on_inconsistent)
     return result
 
 

@@ -95,7 +95,7 @@ def oit_cz_filter(system, X0: ConvexSet, ys: Any, *, delta_bar: int | None = Non
     >>> len(res.estimates), all(Z.contains(x) for Z, x in zip(res.estimates[2:], xs[2:]))
     (9, True)
     """
-    system, ys = measured(system, ys)
+    given, system, ys = system, *measured(system, ys)
     _check_state_set(X0, "X0", system.n)
     check_on_inconsistent(on_inconsistent)
     for name, S in (("X0", X0), ("system.W", system.W), ("system.V", system.V)):
@@ -115,7 +115,7 @@ def oit_cz_filter(system, X0: ConvexSet, ys: Any, *, delta_bar: int | None = Non
     result = run_oit_cz(system, X0.to_constrained_zonotope(), ys, st, delta_bar, float(epsilon), ups,
                         hulls, on_inconsistent != "ignore")
     if on_inconsistent != "ignore":
-        found = outer_inconsistency(system, X0, ys, result.estimates, "OIT-CZ")
+        found = outer_inconsistency(system, X0, ys, result.estimates, "OIT-CZ", given)
         report_inconsistency(found, on_inconsistent)
     return result
 

@@ -99,6 +99,7 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
         raise ValueError("posteriors= is only used by method='recursion'; the trajectory form never "
                          "reads them (pass method='recursion', or drop posteriors)")
     check_on_inconsistent(on_inconsistent)
+    given, as_given = system, ys   # the inconsistency is reported in the user's terms (y_k with D u_k)
     system, ys = measured(system, ys)
     if method == "auto":
         method = "trajectory" if posteriors is None else "recursion"
@@ -106,7 +107,7 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
         _check_state_set(X0, "X0", system.n)
         smoothed = SetEstimates(smoothed_ranges_from_trajectories(trajectory_set(system, X0, ys), system.n),
                                 system=system, X0=X0, ys=ys, kind="smoothed")
-        report_inconsistency(_emptied(smoothed, system, X0, ys, None, on_inconsistent), on_inconsistent)
+        report_inconsistency(_emptied(smoothed, given, X0, as_given, None, on_inconsistent), on_inconsistent)
         return smoothed
     if posteriors is None:   # Algorithm 1 reads these CZs; the smoother reports inconsistency itself
         posteriors = classical_filter(system, X0, ys, form="recursion", on_inconsistent="ignore")
@@ -129,13 +130,17 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
 
         smoothed = certified_against_data(smoothed, system, X0, ys, "smoothed")
     smoothed = SetEstimates(smoothed, system=system, X0=X0, ys=ys, kind="smoothed", outer=outer)
-    report_inconsistency(_emptied(smoothed, system, X0, ys, posteriors, on_inconsistent), on_inconsistent)
+    report_inconsistency(_emptied(smoothed, given, X0, as_given, posteriors, on_inconsistent),
+                         on_inconsistent)
     return smoothed
 
 
 def _emptied(smoothed: SetEstimates, system, X0: ConvexSet, ys, posteriors, on_inconsistent: str):
     """When ⟦x_T | y_{0:T}⟧ is empty every smoothed set is (no trajectory explains the data): mark them
-    `EmptySet` and return the filter's first inconsistency; else None (also with 'ignore')."""
+    `EmptySet` and return the filter's first inconsistency; else None (also with 'ignore').
+
+    ``system`` and ``ys`` are as the user gave them, so the inconsistency quotes y_k with its
+    feedthrough D_k u_k, as the filter's does (`first_inconsistency` takes it off again)."""
     if on_inconsistent == "ignore" or not len(smoothed) or not smoothed[-1].is_empty():
         return None
     smoothed[:] = [EmptySet(system.n) for _ in range(len(smoothed))]
