@@ -23,6 +23,11 @@ prove them consistent (an outer bound of an empty set need not be empty), and th
 the inconsistency at an earlier step. Their distance is measured from the output set predicted from
 their own estimate at k − 1, a superset of the exact one: it is at most the exact filter's distance at
 that step.
+
+The scalar interval filters `interval_filter` (exact for its model) and `classical_interval_filter` (an
+outer bound of the rethinking paper's optimal range) report an `IntervalInconsistency`: they know y_k
+only through the states it allows, so their distance is the gap, in the state, between those states and
+the predicted range.
 """
 
 from __future__ import annotations
@@ -39,7 +44,7 @@ from ..sets.algebra import linear_map, minkowski_sum
 from ..sets.base import ConvexSet
 from ..sets.empty import EmptySet
 
-__all__ = ["Inconsistency", "ModelInvalidationWarning", "ModelInvalidatedError",
+__all__ = ["Inconsistency", "IntervalInconsistency", "ModelInvalidationWarning", "ModelInvalidatedError",
            "first_inconsistency", "outer_inconsistency", "report_inconsistency", "check_on_inconsistent",
            "ON_INCONSISTENT"]
 
@@ -88,6 +93,36 @@ class Inconsistency:
         before = "the initial set X0" if self.step == 0 else f"y_0..y_{self.step - 1}"
         return (f"the measurements contradict the model from k = {self.step}: {y} lies "
                 f"{self.distance:.3g} (∞-norm) outside the output set predicted from {before}")
+
+
+@dataclass(frozen=True)
+class IntervalInconsistency(Inconsistency):
+    """The first inconsistent step of a scalar interval filter (`interval_filter`,
+    `classical_interval_filter`): the states consistent with y_k miss the range predicted for x_k.
+
+    These filters know the measurement only through the states it allows (smoothing paper (7)), not
+    through an output map, so ``distance`` is measured in the state: the gap between the two
+    intervals below. The verdict is exact arithmetic on the endpoints (lo > hi).
+
+    Attributes
+    ----------
+    predicted : tuple of float
+        The prior range of x_k: the prediction (6) from y_0..y_{k−1}, ``x0_interval`` at k = 0.
+    consistent : tuple of float
+        The states consistent with y_k, ``measurement_interval(k, y_k)``.
+    """
+
+    predicted: tuple[float, float] = (np.nan, np.nan)
+    consistent: tuple[float, float] = (np.nan, np.nan)
+
+    def __str__(self) -> str:
+        y = f"y_{self.step} = {np.array2string(self.measurement, precision=4)}"
+        before = "the initial range x0_interval" if self.step == 0 else \
+            f"the range predicted from y_0..y_{self.step - 1}"
+        (c_lo, c_hi), (p_lo, p_hi) = self.consistent, self.predicted
+        return (f"the measurements contradict the model from k = {self.step}: the states consistent "
+                f"with {y}, [{c_lo:.4g}, {c_hi:.4g}], lie {self.distance:.3g} outside {before}, "
+                f"[{p_lo:.4g}, {p_hi:.4g}]")
 
 
 def _predicted_outputs(system, k: int, prior: ConvexSet) -> ConvexSet:

@@ -33,8 +33,10 @@ import numpy as np
 
 from .._validation import check_rng, real_array
 from ..results import IntervalEstimates
+from ..models.intervals import noise_intervals
 from ..models.related_noise import ScalarRelatedNoiseSystem
-from .interval import interval_filter
+from .consistency import check_on_inconsistent, report_inconsistency
+from .interval import _interval_filter
 
 __all__ = ["SampledRanges", "sampled_optimal_filter", "classical_interval_filter"]
 
@@ -124,7 +126,8 @@ class SampledRanges:
         return IntervalEstimates(self.lo[run], self.hi[run])
 
 
-def classical_interval_filter(system: ScalarRelatedNoiseSystem, ys: Any) -> IntervalEstimates:
+def classical_interval_filter(system: ScalarRelatedNoiseSystem, ys: Any, *,
+                              on_inconsistent: str = "warn") -> IntervalEstimates:
     """Rethinking Algorithm 1: the classical SMF (Theorem 2) of a scalar related-noise system.
 
     Prediction [η(a) + w_lo, η(b) + w_hi], update ∩ measurement_interval(y_k, ⟦v_k⟧): the relation
@@ -136,6 +139,10 @@ def classical_interval_filter(system: ScalarRelatedNoiseSystem, ys: Any) -> Inte
     system : ScalarRelatedNoiseSystem
     ys : array_like, shape (T+1,)
         Measurements y_0..y_T of one run.
+    on_inconsistent : {'warn', 'raise', 'ignore'}, keyword-only
+        As in `interval_filter`: an empty range proves the data inconsistent with the model (it
+        contains the optimal range), reported as an `IntervalInconsistency` in a
+        `ModelInvalidationWarning` (default), raised as `ModelInvalidatedError`, or ignored.
 
     Returns
     -------
@@ -150,11 +157,16 @@ def classical_interval_filter(system: ScalarRelatedNoiseSystem, ys: Any) -> Inte
     """
     if not isinstance(system, ScalarRelatedNoiseSystem):
         raise TypeError(f"system must be a ScalarRelatedNoiseSystem, got {type(system).__name__}")
+    check_on_inconsistent(on_inconsistent)
     ys = real_array(ys, "ys", "an array of measurements")
-    if ys.ndim != 1:
+    if ys.ndim != 1 or ys.shape[0] < 1:
         raise ValueError(f"ys must have shape (T+1,) (one run), got {ys.shape}")
-    return interval_filter(system.eta, system.w_range, system.x0_range, ys,
-                           functools.partial(_measurement_interval, system))
+    if not np.isfinite(ys).all():
+        raise ValueError("ys contains NaN or inf")
+    estimates, found = _interval_filter(system.eta, noise_intervals(system.w_range, len(ys) - 1),
+                                        system.x0_range, ys, functools.partial(_measurement_interval, system))
+    report_inconsistency(found, on_inconsistent)
+    return estimates
 
 
 def _measurement_interval(system: ScalarRelatedNoiseSystem, k: int, y) -> tuple[float, float]:

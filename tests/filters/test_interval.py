@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import setsmooth as ss
 from setsmooth.filters.interval import interval_filter
 from setsmooth.models.intervals import IntervalEstimates
 
@@ -74,7 +75,8 @@ def test_inconsistent_measurement_gives_empty_from_then_on():
     x, y = simulate33(rng, 6)
     y = y.copy()
     y[3] = 2.0 * x[3] + 1000.0  # no v ∈ [1, 3] explains this
-    est = interval_filter(eta33, W, (-1.0, 1.0), y, meas34)
+    with pytest.warns(ss.ModelInvalidationWarning, match=r"k = 3\b"):
+        est = interval_filter(eta33, W, (-1.0, 1.0), y, meas34)
     np.testing.assert_array_equal(est.empty, [False, False, False, True, True, True, True])
     assert np.isnan(est.lo[3:]).all() and np.isnan(est.hi[3:]).all()
     assert np.isnan(est.diameters()[3:]).all() and np.isfinite(est.diameters()[:3]).all()

@@ -136,3 +136,47 @@ def test_a_detectable_system_reports_the_fault_and_stays_empty_after_it():
     with warnings.catch_warnings():
         warnings.simplefilter("error", ss.ModelInvalidationWarning)
         assert ss.oit_cz_filter(system, X0, ys).contains_trajectory(xs).all()
+
+
+def _scalar_interval_runs():
+    """The scalar interval filters on their papers' examples: (name, run(ys, **kw), consistent ys)."""
+    from setsmooth.papers.rethinking_examples import rethinking_example_27
+    from setsmooth.papers.smoothing_examples import eta_33, measurement_interval_34
+
+    _, ys_33 = ss.simulate(ss.paper_examples.smoothing_example_33(), ss.Box([-5.0], [5.0]), 12,
+                           np.random.default_rng(4))
+    system_27 = rethinking_example_27()
+    _, ys_27 = system_27.simulate(12, np.random.default_rng(4))
+    return [
+        ("interval_filter", lambda ys, **kw: ss.interval_filter(eta_33, (-1, 1), (-5, 5), ys,
+                                                                measurement_interval_34, **kw), ys_33[:, 0]),
+        ("classical_interval_filter", lambda ys, **kw: ss.classical_interval_filter(system_27, ys, **kw),
+         ys_27[0]),
+    ]
+
+
+@pytest.mark.parametrize("case", range(2), ids=["interval_filter", "classical_interval_filter"])
+def test_the_scalar_interval_filters_report_a_fault_as_the_others_do(case):
+    name, run, ys = _scalar_interval_runs()[case]
+    fault = 6
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ss.ModelInvalidationWarning)
+        assert run(ys).first_empty is None
+    faulty = ys.copy()
+    faulty[fault:] += 40.0
+    with pytest.warns(ss.ModelInvalidationWarning, match=rf"k = {fault}\b.*states consistent with y_{fault}") \
+            as record:
+        result = run(faulty)
+    found = [w.message.inconsistency for w in record if isinstance(w.message, ss.ModelInvalidationWarning)]
+    assert len(found) == 1 and found[0].step == fault == result.first_empty
+    assert np.array_equal(found[0].measurement, [faulty[fault]])
+    # the gap between the states y_6 allows and the predicted range, which the two intervals show
+    (c_lo, c_hi), (p_lo, p_hi) = found[0].consistent, found[0].predicted
+    assert found[0].distance == max(c_lo - p_hi, p_lo - c_hi) > 0
+    with pytest.raises(ss.ModelInvalidatedError, match=rf"k = {fault}\b"):
+        run(faulty, on_inconsistent="raise")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ss.ModelInvalidationWarning)
+        assert run(faulty, on_inconsistent="ignore").first_empty == fault
+    with pytest.raises(ValueError, match="on_inconsistent"):
+        run(faulty, on_inconsistent="loud")

@@ -110,7 +110,8 @@ def test_papers_literal_reading_leaves_the_classical_range():
         for k in range(10):
             xs.append(eta_27(xs[-1]) + w[k])
             ys.append(xs[-1] * rng.uniform(0, 2 - w[k]))
-        classical = ss.classical_interval_filter(SYSTEM, np.array(ys))
+        # data off the model: the range may also come out empty, which is what the warning would say
+        classical = ss.classical_interval_filter(SYSTEM, np.array(ys), on_inconsistent="ignore")
         with np.errstate(invalid="ignore"):
             outside += int(np.sum(~((classical.lo <= xs) & (xs <= classical.hi))))
     assert outside > 0
