@@ -156,3 +156,90 @@ def test_rethinking_30_draws_one_process_noise_for_every_step():
     A = p.system.A_at(0)
     pushes = p.xs[1:] - p.xs[:-1] @ A.T              # E w_k, k = 0..5
     assert np.allclose(pushes, pushes[0], atol=1e-12) and np.abs(pushes[0]).max() > 0
+
+
+def test_the_nonlinear_example_33_runs_with_the_interval_estimators_and_is_sound_on_a_few_seeds():
+    result = arena.run_arena(["example33"], ["interval_filter", "interval_smoother"], runs=4, seed=7,
+                             horizon=12, executor="serial", progress=False)
+    filtered, smoothed = _row(result, "interval_filter"), _row(result, "interval_smoother")
+    for row in (filtered, smoothed):
+        assert row["applicable"] and row["sound"] is True and row["runs"] == 4 and row["errors"] == 0
+        assert row["outside"] == 0 and row["steps"] == 4 * 13
+        assert not row["containment_checked"]          # nothing exact is registered for a nonlinear system
+    assert 0 < smoothed["mean_radius"] < filtered["mean_radius"] < 0.5    # (34) alone pins x_k to width 1
+    assert "| example33 | interval_filter | 4 | 0/52 | no exact reference |" in arena.markdown_table(result)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_interval_filter_holds_the_true_state_of_example_33(seed):
+    p = arena.make_problem("example33", seed, horizon=30)
+    lo, hi = arena.hull_tubes(arena.ESTIMATORS["interval_filter"](p.system, p.X0, p.ys))
+    assert lo.shape == p.xs.shape and np.all(hi - lo > 0)
+    assert np.all((lo <= p.xs + 1e-12) & (p.xs <= hi + 1e-12))
+
+
+calls = []
+
+
+def linear_only(system, X0, ys):
+    """A linear estimator that records its calls: it must never see example (33)."""
+    calls.append(type(system).__name__)
+    return ss.classical_filter(system, X0, ys)
+
+
+def test_an_inapplicable_pair_is_reported_as_such_and_never_run():
+    arena.register("linear_only", linear_only)
+    calls.clear()
+    try:
+        result = arena.run_arena(["example33", "example31"], ["linear_only", "interval_filter"], runs=1,
+                                 seed=0, horizon=3, executor="serial", progress=False)
+    finally:
+        arena.unregister("linear_only")
+    assert calls == ["LinearSystem"]                      # run on example31 only: decided, not caught
+    na = [(r["problem"], r["estimator"]) for r in result.rows if not r["applicable"]]
+    assert na == [("example33", "linear_only"), ("example31", "interval_filter")]
+    row = next(r for r in result.rows if r["problem"] == "example33" and r["estimator"] == "linear_only")
+    assert row["sound"] is None and row["error"] is None and row["runs"] == 0
+    assert "example33 is scalar_monotone" in row["not_applicable"]
+    assert result.unsound() == []
+    line = next(line for line in arena.markdown_table(result).splitlines()
+                if line.startswith("| example33 | linear_only |"))
+    assert "n/a" in line and "error" not in line
+
+
+def test_the_interval_filter_is_registered_and_bounds_the_exact_filter_of_a_scalar_linear_system():
+    assert {"interval_filter", "interval_smoother"} <= set(check_estimators(None))
+    assert "example33" in arena.problem_names() and "scalar_linear" in arena.problem_names()
+    result = arena.run_arena(["scalar_linear"], ["exact_filter", "interval_filter", "interval_smoother"],
+                             runs=2, seed=4, horizon=8, executor="serial", progress=False)
+    for name in ("interval_filter", "interval_smoother"):
+        row = _row(result, name)
+        assert row["sound"] is True and row["outside"] == 0 and row["containment_failures"] == 0
+        # exact for a scalar system with A > 0: the exact filter's (smoother's) hulls, up to rounding
+        assert row["volume_ratio"] == pytest.approx(1.0, rel=1e-6)
+    assert _row(result, "interval_smoother")["mean_radius"] < _row(result, "interval_filter")["mean_radius"]
+
+
+def test_the_interval_filter_refuses_a_system_it_does_not_apply_to_in_the_users_words():
+    p = arena.make_problem("example31", 0, horizon=2)
+    with pytest.raises(ValueError, match=r"scalar system \(n = 1\).*got n = 2"):
+        arena.ESTIMATORS["interval_filter"](p.system, p.X0, p.ys)
+    flipped = ss.LinearSystem([[-0.5]], None, [[1.0]], W=ss.Box([-1.0], [1.0]), V=ss.Box([-1.0], [1.0]))
+    with pytest.raises(ValueError, match=r"A = -0.5 is not > 0"):
+        arena.ESTIMATORS["interval_filter"](flipped, ss.Box([-1.0], [1.0]), np.zeros((3, 1)))
+
+
+def test_registering_an_unknown_structure_is_refused():
+    with pytest.raises(ValueError, match="applies_to must name structures among"):
+        arena.register("nowhere", linear_only, applies_to="nonlinear")
+    assert "nowhere" not in arena.ESTIMATORS
+
+
+def test_the_command_lists_an_inapplicable_pair_as_not_applicable(tmp_path, capsys):
+    status = cli.main(["arena", "--problems", "example33", "--estimators", "exact_filter,interval_filter",
+                       "--runs", "1", "--horizon", "5", "--out", str(tmp_path), "--no-progress"])
+    assert status == 0
+    rows = json.loads((tmp_path / "arena.json").read_text())["rows"]
+    assert [(r["estimator"], r["applicable"]) for r in rows] == [("exact_filter", False),
+                                                                 ("interval_filter", True)]
+    assert "| example33 | exact_filter | 0 | n/a | n/a |" in capsys.readouterr().out

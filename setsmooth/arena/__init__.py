@@ -7,7 +7,9 @@ radius, hull volume over the exact one's, Hausdorff distance to the exact sets o
 CPU time per step, as a JSON record, a markdown table and a figure. A new estimator enters with one call, ``register(name, fn)``. One module per job:
 
 * `problems`: the zoo (`PROBLEMS`, `make_problem`);
-* `estimators`: the registry (`register`, `ESTIMATORS`, `hull_tubes`);
+* `estimators`: the registry (`register`, `ESTIMATORS`, `hull_tubes`), each estimator declaring the
+  systems it applies to (`STRUCTURES`);
+* `scalar`: scalar systems with increasing dynamics (`MonotoneScalarSystem`), the interval filter's class;
 * `metrics`: soundness and tightness from interval hulls, and the Hausdorff gap of 2-D sets;
 * `runner`: the Monte Carlo (`run_arena`);
 * `report`: table, JSON and figure (`write_outputs`);
@@ -23,8 +25,9 @@ from typing import Any
 
 _EXPORTS = {
     **dict.fromkeys(["Problem", "PROBLEMS", "make_problem", "problem_names"], ".problems"),
-    **dict.fromkeys(["Estimator", "ESTIMATORS", "REFERENCES", "register", "unregister", "hull_tubes"],
-                    ".estimators"),
+    **dict.fromkeys(["Estimator", "ESTIMATORS", "REFERENCES", "STRUCTURES", "register", "unregister",
+                     "hull_tubes"], ".estimators"),
+    "MonotoneScalarSystem": ".scalar",
     **dict.fromkeys(["ArenaResult", "run_arena"], ".runner"),
     **dict.fromkeys(["markdown_table", "plot_arena", "write_outputs"], ".report"),
 }

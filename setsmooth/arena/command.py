@@ -11,8 +11,8 @@ import sys
 import time
 from pathlib import Path
 
-# 5 runs of every light problem and estimator: about 110 CPU-seconds, under a minute on 2 free cores
-# (measured 2026-11-28; docs/arena.md has the table).
+# 5 runs of every light problem and estimator: about 130 CPU-seconds, about a minute on 2 free cores
+# (measured 2026-11-28 with example33 and scalar_linear; docs/arena.md has the table).
 DEFAULT_RUNS = 5
 DEFAULT_OUT = Path("arena_out")
 
@@ -24,6 +24,11 @@ smoothers), the mean hull radius, the hull volume over the exact one's, on 2-D p
 Hausdorff distance of the sets to the exact ones, and CPU time per step (estimator plus hulls).
 Writes DIR/arena.json, DIR/arena.md and DIR/arena.png (tightness against time, unsound entries in
 red) and prints the table. The exit status is 1 when an entry is unsound.
+
+An estimator runs only on the problems whose system it applies to (the interval filter and smoother
+on scalar systems with increasing dynamics, such as the nonlinear example33; the others on linear
+systems); the other pairs are marked n/a. A problem no exact estimator applies to (example33) is
+judged by the truth alone ("no exact reference").
 
 Heavy problems (random20, random30, long_horizon) and heavy estimators (recursion_smoother,
 lsup) run only when named. Register your own estimator from Python with
@@ -79,10 +84,12 @@ def run(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
     if args.list:
         print("problems:")
         for name, spec in PROBLEMS.items():
-            print(f"  {name:<22} T = {spec.horizon:<5} {spec.summary}{' (heavy)' if spec.heavy else ''}")
+            print(f"  {name:<22} T = {spec.horizon:<5} {spec.summary}{' (heavy)' if spec.heavy else ''}"
+                  f" [{', '.join(sorted(spec.structure))}]")
         print("estimators:")
         for name, e in ESTIMATORS.items():
-            print(f"  {name:<22} {e.kind:<9} {e.summary}{' (heavy)' if e.heavy else ''}")
+            print(f"  {name:<22} {e.kind:<9} {e.summary}{' (heavy)' if e.heavy else ''}"
+                  f" [applies to {', '.join(sorted(e.applies_to))}]")
         return 0
     try:
         problems = check_problems(_names(args.problems), "--problems")

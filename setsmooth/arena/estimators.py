@@ -8,7 +8,11 @@ arena with one call::
     register("my_filter", my_filter)             # my_filter(system, X0, ys) -> list of sets
 
 Each estimator states what it estimates (``kind``): ``'filtered'`` sets ⟦x_k | y_{0:k}⟧ are compared
-with the exact filter, ``'smoothed'`` sets ⟦x_k | y_{0:T}⟧ with the exact (trajectory) smoother.
+with the exact filter, ``'smoothed'`` sets ⟦x_k | y_{0:T}⟧ with the exact (trajectory) smoother. And
+it states the systems it applies to (``applies_to``, among `STRUCTURES`): ``'linear'`` (a
+`LinearSystem`, the default) or ``'scalar_monotone'`` (x_{k+1} = η(x_k) + w_k with η increasing,
+smoothing paper (27): the interval filter and smoother). A problem declares the structures its system
+has, and the arena runs an estimator only on the problems it applies to; every other pair is "n/a".
 Heavy estimators (the recursion smoother, O(T²); LSUP, combinatorial in n) run only when named.
 
 For a process pool (and Dask) the estimator's function travels to the workers by pickling: a
@@ -25,31 +29,43 @@ from typing import Any
 import numpy as np
 
 from ..filters.classical import classical_filter
+from ..filters.interval import interval_filter
 from ..filters.lsu import LSUModel, lsu_cz_filter, lsuo_filter, lsup_filter
 from ..filters.oit import oit_inspired_filter
 from ..filters.oit_cz import oit_cz_filter
 from ..sets.reduction import CORA_COMBASTEL, CORA_GIRARD
 from ..smoothers.linear import optimal_smoother
+from ..smoothers.nonlinear import interval_smoother
+from .scalar import monotone_scalar_form
 
-__all__ = ["Estimator", "register", "unregister", "ESTIMATORS", "REFERENCES", "KINDS", "check_estimators",
-           "hull_tubes", "estimated_sets", "lsu_model"]
+__all__ = ["Estimator", "register", "unregister", "ESTIMATORS", "REFERENCES", "KINDS", "STRUCTURES",
+           "check_estimators", "hull_tubes", "estimated_sets", "lsu_model"]
 
 KINDS = ("filtered", "smoothed")
+#: What a problem's system can be, and what an estimator can take: a `LinearSystem`; a scalar system
+#: x_{k+1} = η(x_k) + w_k with η increasing (`setsmooth.arena.scalar`; a scalar linear one with A > 0
+#: is both).
+STRUCTURES = ("linear", "scalar_monotone")
 
 
 @dataclass(frozen=True)
 class Estimator:
-    """A registered estimator: its name, the callable, what it estimates, a one-line summary, and
-    whether it is heavy (left out of the default selection)."""
+    """A registered estimator: its name, the callable, what it estimates, the structures of system it
+    applies to, a one-line summary, and whether it is heavy (left out of the default selection)."""
 
     name: str
     fn: Callable[..., Any]
     kind: str = "filtered"
     summary: str = ""
     heavy: bool = False
+    applies_to: frozenset[str] = frozenset({"linear"})
 
     def __call__(self, system, X0, ys):
         return self.fn(system, X0, ys)
+
+    def applies(self, structure: frozenset[str]) -> bool:
+        """Whether it runs on a problem whose system has ``structure`` (one shared structure suffices)."""
+        return bool(self.applies_to & structure)
 
 
 def exact_filter(system, X0, ys):
@@ -140,6 +156,19 @@ def lsup(system, X0, ys):
     return lsup_filter(model, ys, us, std=False)
 
 
+def interval_filter_estimator(system, X0, ys):
+    """The interval filter, smoothing paper Lemma 3 (6)–(7): exact for a scalar system with η increasing."""
+    form = monotone_scalar_form(system, X0, ys)
+    return interval_filter(form.eta, form.w_intervals, form.x0_interval, ys, form.measurement_interval)
+
+
+def interval_smoother_estimator(system, X0, ys):
+    """The interval smoother, smoothing paper Proposition 2 (Algorithm 2): exact for a scalar η increasing."""
+    form = monotone_scalar_form(system, X0, ys)
+    filtered = interval_filter(form.eta, form.w_intervals, form.x0_interval, ys, form.measurement_interval)
+    return interval_smoother(form.eta, form.w_intervals, filtered, form.eta_inverse)
+
+
 #: The registry, by name; built-ins first. `register` adds to it.
 ESTIMATORS: dict[str, Estimator] = {}
 
@@ -148,7 +177,7 @@ REFERENCES = {"filtered": "exact_filter", "smoothed": "trajectory_smoother"}
 
 
 def register(name: str, fn: Callable[..., Any], *, kind: str = "filtered", summary: str = "",
-             heavy: bool = False, replace: bool = False) -> Estimator:
+             heavy: bool = False, applies_to: Any = ("linear",), replace: bool = False) -> Estimator:
     """Add an estimator to the arena under ``name``.
 
     Parameters
@@ -165,6 +194,10 @@ def register(name: str, fn: Callable[..., Any], *, kind: str = "filtered", summa
         One line for listings; the function's docstring's first line by default.
     heavy : bool
         Leave it out when no estimators are named (it runs when named).
+    applies_to : str or sequence of str
+        The structures of system it takes, among `STRUCTURES`: ``'linear'`` (a `LinearSystem`),
+        ``'scalar_monotone'`` (`setsmooth.arena.scalar`). The arena runs it on a problem only when the
+        problem's system has one of them, and reports the other pairs as not applicable.
     replace : bool
         Allow replacing an estimator already registered under ``name``.
 
@@ -175,7 +208,8 @@ def register(name: str, fn: Callable[..., Any], *, kind: str = "filtered", summa
     Raises
     ------
     ValueError
-        For an empty name, an unknown ``kind``, or a name already taken (without ``replace``).
+        For an empty name, an unknown ``kind`` or structure, or a name already taken (without
+        ``replace``).
     TypeError
         When ``fn`` is not callable.
     """
@@ -185,12 +219,15 @@ def register(name: str, fn: Callable[..., Any], *, kind: str = "filtered", summa
         raise TypeError(f"fn must be a callable (system, X0, ys) -> estimates, got {type(fn).__name__}")
     if kind not in KINDS:
         raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
+    applies_to = frozenset([applies_to] if isinstance(applies_to, str) else applies_to)
+    if not applies_to or not applies_to <= set(STRUCTURES):
+        raise ValueError(f"applies_to must name structures among {STRUCTURES}, got {sorted(applies_to)}")
     if name in ESTIMATORS and not replace:
         raise ValueError(f"an estimator named {name!r} is already registered; pass replace=True to "
                          "replace it, or choose another name")
     if not summary:
         summary = ((getattr(fn, "__doc__", None) or "").strip().splitlines() or [""])[0]
-    estimator = Estimator(name, fn, kind, summary, bool(heavy))
+    estimator = Estimator(name, fn, kind, summary, bool(heavy), applies_to)
     ESTIMATORS[name] = estimator
     return estimator
 
@@ -279,3 +316,5 @@ for _name, _fn, _kind, _heavy in (("exact_filter", exact_filter, "filtered", Fal
                                   ("lsuo", lsuo, "filtered", False),
                                   ("lsup", lsup, "filtered", True)):
     register(_name, _fn, kind=_kind, heavy=_heavy)
+register("interval_filter", interval_filter_estimator, kind="filtered", applies_to="scalar_monotone")
+register("interval_smoother", interval_smoother_estimator, kind="smoothed", applies_to="scalar_monotone")

@@ -7,6 +7,11 @@ the noises drawn uniformly from their ranges (`setsmooth.simulate`; rethinking (
 every step), so the true states are consistent with the model and every sound estimator must contain
 them.
 
+Each problem declares the structures its system has (`STRUCTURES`: ``'linear'``, ``'scalar_monotone'``),
+and the arena runs on it only the estimators that apply to one of them: the smoothing paper's nonlinear
+example (33) only the interval filter and smoother, a scalar linear system with A > 0 both those and
+the linear estimators.
+
 Heavy problems (random20, random30, the long horizon) are left out of the default selection; name them
 to run them.
 """
@@ -21,13 +26,15 @@ import numpy as np
 
 from .._validation import as_generator
 from ..analysis.random_systems import random_observable_system
-from ..models.systems import LinearSystem, simulate
+from ..models.systems import LinearSystem, NonlinearSystem, simulate
 from ..papers.rethinking_examples import rethinking_example_30, rethinking_example_30_x0
-from ..papers.smoothing_examples import smoothing_example_31, smoothing_example_31_x0
+from ..papers.smoothing_examples import (SMOOTHING_33_X0, eta_33, eta_33_inverse, measurement_interval_34,
+                                         smoothing_example_31, smoothing_example_31_x0, smoothing_example_33)
 from ..sets.base import ConvexSet
 from ..sets.box import Box
 from ..sets.constrained_zonotope import ConstrainedZonotope
-from .estimators import chosen_names
+from .estimators import STRUCTURES, chosen_names
+from .scalar import MonotoneScalarSystem
 
 __all__ = ["Problem", "ProblemSpec", "PROBLEMS", "make_problem", "problem_names", "check_problems"]
 
@@ -39,7 +46,7 @@ class Problem:
     Attributes
     ----------
     name : str
-    system : LinearSystem
+    system : LinearSystem or NonlinearSystem
     X0 : ConvexSet
         ⟦x_0⟧, the initial range the estimators are given (the true x_0 is drawn from it).
     xs : ndarray, shape (T+1, n)
@@ -48,26 +55,35 @@ class Problem:
         Measurements y_0..y_T.
     horizon : int
         T.
+    structure : frozenset of str
+        The structures the system has (`STRUCTURES`), which decide the estimators that apply.
     """
 
     name: str
-    system: LinearSystem
+    system: LinearSystem | NonlinearSystem
     X0: ConvexSet
     xs: np.ndarray
     ys: np.ndarray
     horizon: int
+    structure: frozenset[str] = frozenset({"linear"})
 
 
 @dataclass(frozen=True)
 class ProblemSpec:
-    """A zoo entry: the function drawing the problem, its default horizon, and whether it is heavy."""
+    """A zoo entry: the function drawing the problem, its default horizon, whether it is heavy, and
+    the structures its system has (`STRUCTURES`)."""
 
-    build: Callable[[np.random.Generator, int], tuple[LinearSystem, ConvexSet]]
+    build: Callable[[np.random.Generator, int], tuple[LinearSystem | NonlinearSystem, ConvexSet]]
     horizon: int
     summary: str
     heavy: bool = False
     #: (system, X0, T, rng) -> (xs, ys) when the data are not `simulate`'s independent uniform draws.
     draw: Callable[..., tuple[np.ndarray, np.ndarray]] | None = None
+    structure: frozenset[str] = frozenset({"linear"})
+
+    def __post_init__(self):
+        if not self.structure or not self.structure <= set(STRUCTURES):
+            raise ValueError(f"structure must name structures among {STRUCTURES}, got {sorted(self.structure)}")
 
 
 def _example_31(rng: np.random.Generator, T: int) -> tuple[LinearSystem, ConvexSet]:
@@ -145,6 +161,22 @@ def _rethinking_30(rng: np.random.Generator, T: int) -> tuple[LinearSystem, Conv
     return rethinking_example_30(), rethinking_example_30_x0()
 
 
+def _example_33(rng: np.random.Generator, T: int) -> tuple[MonotoneScalarSystem, ConvexSet]:
+    # Smoothing paper (33)–(34): η(x) = ∛x + x, y = 2x + v, ⟦w⟧ = [−1, 1], ⟦v⟧ = [1, 3]; the paper's
+    # measurement function and noise ranges, with η, η⁻¹ and (34) stated for the interval estimators.
+    paper = smoothing_example_33()
+    system = MonotoneScalarSystem(eta_33, paper.g, measurement_interval_34, paper.W, paper.V,
+                                  eta_inverse=eta_33_inverse)
+    return system, Box([SMOOTHING_33_X0[0]], [SMOOTHING_33_X0[1]])
+
+
+def _scalar_linear(rng: np.random.Generator, T: int) -> tuple[LinearSystem, ConvexSet]:
+    # Example (33)'s noises and measurement with a linear η(x) = 0.9 x: a linear system the interval
+    # filter and smoother are exact for too, so they meet the exact filter and smoother here.
+    system = LinearSystem([[0.9]], None, [[2.0]], W=Box([-1.0], [1.0]), V=Box([1.0], [3.0]))
+    return system, Box([SMOOTHING_33_X0[0]], [SMOOTHING_33_X0[1]])
+
+
 def _one_process_noise(system: LinearSystem, X0: ConvexSet, T: int, rng: np.random.Generator
                        ) -> tuple[np.ndarray, np.ndarray]:
     # Rethinking paper Section IV-B: one w for every step (w_k = w), which the classical model allows.
@@ -166,6 +198,10 @@ PROBLEMS: dict[str, ProblemSpec] = {
     "rethinking30": ProblemSpec(_rethinking_30, 10, "rethinking paper example (30): one constant w",
                                 draw=_one_process_noise),
     "lsu41": ProblemSpec(_lsu_section_41, 20, "LSU paper Section 4.1 (n = 3, known input, ω = 1e−4)"),
+    "example33": ProblemSpec(_example_33, 50, "smoothing paper nonlinear example (33)–(34), ⟦x_0⟧ = [−5, 5]",
+                             structure=frozenset({"scalar_monotone"})),
+    "scalar_linear": ProblemSpec(_scalar_linear, 20, "x_{k+1} = 0.9 x_k + w_k, y_k = 2 x_k + v_k, example "
+                                 "(33)'s noises", structure=frozenset({"linear", "scalar_monotone"})),
     "random20": ProblemSpec(_stability_random(20), 10, "as random10 at n = 20", heavy=True),
     "random30": ProblemSpec(_stability_random(30), 10, "as random10 at n = 30", heavy=True),
     "long_horizon": ProblemSpec(_example_31, 1000, "example (31) over T = 1000 steps", heavy=True),
@@ -218,4 +254,4 @@ def make_problem(name: str, rng: Any, horizon: int | None = None) -> Problem:
     rng = as_generator(rng)
     system, X0 = spec.build(rng, T)
     xs, ys = (spec.draw or simulate)(system, X0, T, rng)
-    return Problem(name, system, X0, xs, ys, T)
+    return Problem(name, system, X0, xs, ys, T, spec.structure)

@@ -1,6 +1,7 @@
 """The arena's outputs: a markdown table, a JSON record and a figure (tightness against time per problem).
 
-Unsound entries are flagged: "UNSOUND" in the table, red crosses in the figure.
+Unsound entries are flagged: "UNSOUND" in the table, red crosses in the figure. A pair whose estimator
+does not apply to the problem's system is a row marked "n/a" in the table and left out of the figure.
 """
 
 from __future__ import annotations
@@ -25,7 +26,11 @@ def markdown_table(result: ArenaResult) -> str:
     columns = _COLUMNS[:-1] + (("peak MiB",) if show_memory else ()) + _COLUMNS[-1:]
     lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
     for row in result.rows:
-        if row["sound"] is None:
+        if not row.get("applicable", True):
+            cells = [row["problem"], row["estimator"], "0", "n/a", "n/a", "", "", "", ""]
+            cells += [""] if show_memory else []
+            cells += [f"n/a: {row['not_applicable']}"]
+        elif row["sound"] is None:
             cells = [row["problem"], row["estimator"], "0", "", "", "", "", "", ""]
             cells += [""] if show_memory else []
             cells += [f"error: {_short(row['error'])}"]
@@ -47,13 +52,14 @@ def markdown_table(result: ArenaResult) -> str:
                  f"+ {metrics.CONTAINMENT_ATOL:g}·max(1, |bound|) (largest shortfall in brackets, as a "
                  "fraction of the width). 'd_H to exact' (2-D problems): Hausdorff distance (2-norm) "
                  "of the sets to the reference's at k = T/2 and T, the larger, mean over runs. "
-                 "CPU: estimator plus its interval hulls, per step.")
+                 "CPU: estimator plus its interval hulls, per step. 'n/a': not run, the estimator "
+                 "does not apply to the problem's system (its declared applies_to).")
     return "\n".join(lines)
 
 
 def _containment(row: dict) -> str:
     if not row["containment_checked"]:
-        return "n/a"
+        return "no exact reference"
     passed = row["runs"] - row["containment_failures"]
     gap = row["containment_gap"]
     return f"{passed}/{row['runs']}" + (f" ({gap:.1e})" if gap is not None and gap > 0 else "")

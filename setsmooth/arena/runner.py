@@ -6,8 +6,11 @@ other problems and estimators are chosen, so a table can be extended without cha
 
 Within a run, every estimator of a problem sees the same data, and its sets are compared with those of
 the exact estimator of its kind (`REFERENCES`), computed once per run even when it is not itself in the
-table. On 2-D problems the comparison includes the Hausdorff distance of the sets themselves at
-`gap_steps` (`setsmooth.arena.metrics.hausdorff_gap`).
+table. An estimator runs only on the problems it applies to (`Estimator.applies`, from its declared
+``applies_to`` and the problem's ``structure``); the other pairs are rows marked not applicable, and a
+problem no reference applies to (the nonlinear example (33)) has no exact reference. On 2-D problems
+the comparison includes the Hausdorff distance of the sets themselves at `gap_steps`
+(`setsmooth.arena.metrics.hausdorff_gap`).
 """
 
 from __future__ import annotations
@@ -28,7 +31,7 @@ from ..sets.box import Box
 from ..sets.empty import EmptySet
 from . import metrics
 from .estimators import ESTIMATORS, REFERENCES, Estimator, check_estimators, estimated_sets, hull_tubes
-from .problems import Problem, check_problems, make_problem
+from .problems import PROBLEMS, Problem, check_problems, make_problem
 
 __all__ = ["run_arena", "ArenaResult", "arena_trial", "measure", "gap_steps"]
 
@@ -40,8 +43,9 @@ class ArenaResult:
     Attributes
     ----------
     rows : list of dict
-        Aggregated over runs (see `summarize`): ``problem``, ``estimator``, ``kind``, ``runs``,
-        ``errors``, ``outside``, ``steps``, ``containment_failures``, ``containment_gap``,
+        Aggregated over runs (see `summarize`): ``problem``, ``estimator``, ``kind``, ``applicable``
+        (False: not run, the estimator does not apply to the problem's system), ``runs``, ``errors``,
+        ``outside``, ``steps``, ``containment_failures``, ``containment_gap``,
         ``mean_radius``, ``volume_ratio``, ``hausdorff_gap`` (2-D problems), ``cpu_ms_per_step``,
         ``peak_mib``, ``sound``.
     runs : list of dict
@@ -123,9 +127,12 @@ def arena_trial(rng: np.random.Generator, problems: tuple[str, ...], estimators:
     out: dict[str, dict] = {}
     for name in problems:
         problem = make_problem(name, _problem_generator(rng, name), horizon)
-        outputs = {e.name: _run_estimator(e, problem, memory) for e in estimators}
+        applicable = [e for e in estimators if e.applies(problem.structure)]
+        outputs = {e.name: _run_estimator(e, problem, memory) for e in applicable}
         exact = {}
         for kind, reference in references.items():
+            if not reference.applies(problem.structure):
+                continue
             result = outputs.get(reference.name) or _run_estimator(reference, problem, False)
             if "error" in result:
                 continue
@@ -133,7 +140,8 @@ def arena_trial(rng: np.random.Generator, problems: tuple[str, ...], estimators:
             if problem.xs.shape[1] == 2:       # the exact polygons, once for every estimator of the kind
                 exact[kind]["polygons"] = {k: _polygon(_set_at(result, k))
                                            for k in gap_steps(problem.horizon)}
-        out[name] = {e.name: measure(outputs[e.name], problem, exact.get(e.kind)) for e in estimators}
+        out[name] = {e.name: measure(outputs[e.name], problem, exact.get(e.kind)) if e.name in outputs
+                     else {"not_applicable": True} for e in estimators}
     return out
 
 
@@ -231,16 +239,25 @@ def summarize(per_run: list[dict], problems: list[str], estimators: tuple[Estima
     """One row per (problem, estimator), aggregated over runs.
 
     ``sound`` is False when the truth left a hull in some run or a hull failed to contain the exact
-    one; None when every run failed.
+    one; None when every run failed, or when the estimator does not apply to the problem
+    (``applicable`` False, ``not_applicable`` says why).
     """
     rows = []
     for problem in problems:
+        structure = PROBLEMS[problem].structure
         for e in estimators:
+            row = {"problem": problem, "estimator": e.name, "kind": e.kind,
+                   "applicable": e.applies(structure)}
+            if not row["applicable"]:
+                row.update(runs=0, errors=0, error=None, sound=None,
+                           not_applicable=f"{e.name} applies to {_listed(e.applies_to)} systems, "
+                                          f"{problem} is {_listed(structure)}")
+                rows.append(row)
+                continue
             results = [run[problem][e.name] for run in per_run]
             ok = [r for r in results if "error" not in r]
             errors = [r["error"] for r in results if "error" in r]
-            row = {"problem": problem, "estimator": e.name, "kind": e.kind, "runs": len(ok),
-                   "errors": len(errors), "error": errors[0] if errors else None}
+            row.update(runs=len(ok), errors=len(errors), error=errors[0] if errors else None)
             if ok:
                 checked = [r["contains"] for r in ok if r["contains"] is not None]
                 ratios = np.array([r["volume_ratio"] for r in ok], dtype=float)
@@ -262,3 +279,7 @@ def summarize(per_run: list[dict], problems: list[str], estimators: tuple[Estima
                 row["sound"] = None
             rows.append(row)
     return rows
+
+
+def _listed(structures) -> str:
+    return " or ".join(sorted(structures))
