@@ -30,9 +30,10 @@ class Estimates(Protocol):
     """What every estimator returns, whatever else it carries.
 
     `SetEstimates` (the exact and reduced filters, the smoothers, the OIT-inspired and the optimal
-    filters), `OITResult`, `LSUResult`, `IntervalEstimates` and `SampledRanges` follow it; their own
-    fields stay. ``lo`` and ``hi`` have shape (T+1, n) with NaN rows at empty steps; (T+1,) for the
-    scalar `IntervalEstimates`, and `SampledRanges`, a batch of runs, puts a runs axis first in every
+    filters), `OITResult`, `LSUResult`, `IntervalEstimates`, `SampledRanges` and `KalmanResult` (whose
+    tubes are σ-boxes about its means, never empty) follow it; their own fields stay. ``lo`` and
+    ``hi`` have shape (T+1, n) with NaN rows at empty steps; (T+1,) for the scalar
+    `IntervalEstimates`, and `SampledRanges`, a batch of runs, puts a runs axis first in every
     member. Results holding sets also give the set at step k as ``result[k]``.
 
     A static protocol (for type checkers): an ``isinstance`` check of a runtime protocol would read

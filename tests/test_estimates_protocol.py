@@ -72,6 +72,12 @@ def _on_linear(run):
     return run(system, X0, ys), xs
 
 
+def _kalman(run):
+    # the uniform noises' covariances: w ~ U[−1, 1]² (variance 1/3), v ~ U[−0.1, 0.1], x_0 ~ U[−1, 1]²
+    system, _, xs, ys = _linear()
+    return run(system, ys, np.zeros(2), np.eye(2) / 3, 1 / 3, 0.01 / 3), xs
+
+
 CASES = {
     "classical_filter": lambda: _on_linear(ss.classical_filter),
     "classical_filter reduced": lambda: _on_linear(
@@ -91,6 +97,8 @@ CASES = {
     "interval_smoother": lambda: _intervals(True),
     "classical_interval_filter": lambda: _rethinking(False),
     "sampled_optimal_filter": lambda: _rethinking(True),
+    "kalman_filter": lambda: _kalman(ss.kalman_filter),
+    "rts_smoother": lambda: _kalman(ss.rts_smoother),
 }
 
 
@@ -115,7 +123,7 @@ def test_every_estimator_returns_the_one_protocol(name):
     assert result.first_empty == ([None] if batch else None)
     inside = result.contains_trajectory(xs)
     assert inside.dtype == bool and inside.all()
-    if not (batch or scalar):
+    if not (batch or scalar or name in ("kalman_filter", "rts_smoother")):   # results holding sets
         assert result[T].contains(xs[T]) and len(list(iter(result))) == T + 1
     fig, ax = plt.subplots()
     axes = result.plot_tubes(ax, [0])
@@ -152,3 +160,16 @@ def test_interval_estimates_live_with_the_other_results():
     from setsmooth.models.intervals import IntervalEstimates
 
     assert IntervalEstimates is ss.IntervalEstimates and IntervalEstimates.__module__ == "setsmooth.results"
+
+
+def test_kalman_tubes_are_sigma_boxes_about_the_means():
+    import dataclasses
+
+    result, xs = _kalman(ss.rts_smoother)
+    sigma = np.sqrt(np.diagonal(result.covariances, axis1=1, axis2=2))
+    assert np.allclose(result.lo, result.means - 3 * sigma) and np.allclose(result.hi, result.means + 3 * sigma)
+    assert result.centers is result.means and result.first_empty is None and result.kind == "RTS smoother"
+    narrow = dataclasses.replace(result, sigmas=1e-6)   # a box that is almost the mean: the truth is out
+    assert np.allclose(narrow.diameters(), 2e-6 * sigma.max(axis=1)) and not narrow.contains_trajectory(xs).any()
+    with pytest.raises(ValueError, match="sigmas must be a positive finite"):
+        dataclasses.replace(result, sigmas=0.0)

@@ -12,17 +12,29 @@ prior with y_0 and does not predict.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from .._validation import as_matrix, as_measurements, as_vector, check_dim, real_number
+from ..results import Tubes
 
 
 @dataclass(frozen=True)
-class KalmanResult:
-    """Gaussian estimates N(means[k], covariances[k]) of x_k for k = 0..T.
+class KalmanResult(Tubes):
+    """Gaussian estimates N(means[k], covariances[k]) of x_k for k = 0..T, with σ-boxes as tubes.
+
+    It follows the `Estimates` protocol with the box means[k] ± sigmas·σ_k as the k-th tube, σ_k the
+    marginal standard deviations (the square roots of the diagonal of covariances[k]): ``lo``,
+    ``hi``, ``centers`` (the means), ``diameters()``, ``contains_trajectory`` (whether x_k lies in
+    the box), ``plot_tubes`` and ``len``, so that it can be plotted and scored beside the
+    set-membership results. The box is a confidence region, not a bound: under the Gaussian model
+    each coordinate lies in its 3σ interval with probability 99.7 %, and nothing holds for bounded
+    noises that are not Gaussian (Q, R are tuning parameters here). ``first_empty`` is always None:
+    a Gaussian estimate is never empty, so the Kalman filter does not detect data that contradict
+    the model (`first_inconsistency` does, on the set-membership model).
+    ``dataclasses.replace(result, sigmas=2.0)`` gives other boxes from the same estimates.
 
     Attributes
     ----------
@@ -34,12 +46,67 @@ class KalmanResult:
         Filter only: E[x_k | y_{0:k-1}]; entry 0 is the prior mean x0_mean.
     predicted_covariances : ndarray, shape (T+1, n, n), or None
         Filter only: the matching covariances; entry 0 is P0.
+    sigmas : float
+        The half-width of the tubes in standard deviations (3 by default), positive and finite.
+    kind : str
+        The tubes' label: 'Kalman filter' or 'RTS smoother'.
+    system : LinearSystem or None
+        The system the estimates were computed for (its sampling time ``dt`` scales the time axis
+        of ``plot_tubes``).
+
+    Raises
+    ------
+    ValueError
+        When ``sigmas`` is not positive and finite.
+
+    Examples
+    --------
+    >>> import numpy as np, setsmooth as ss
+    >>> box = ss.Box([-1.0], [1.0])
+    >>> system = ss.LinearSystem([[1.0]], None, [[1.0]], W=box, V=box)
+    >>> kalman = ss.kalman_filter(system, [[0.0], [0.5]], [0.0], [[1.0]], 1.0, 1.0)
+    >>> kalman.lo.round(3).tolist(), kalman.first_empty
+    ([[-2.121], [-2.024]], None)
     """
 
     means: np.ndarray
     covariances: np.ndarray
     predicted_means: np.ndarray | None = None
     predicted_covariances: np.ndarray | None = None
+    sigmas: float = 3.0
+    kind: str = ""
+    system: Any = field(default=None, repr=False)
+
+    def __post_init__(self) -> None:
+        sigmas = real_number(self.sigmas, "sigmas")
+        if not (np.isfinite(sigmas) and sigmas > 0):
+            raise ValueError(f"sigmas must be a positive finite number of standard deviations, got "
+                             f"{self.sigmas!r}")
+        object.__setattr__(self, "sigmas", sigmas)
+
+    @property
+    def std(self) -> np.ndarray:
+        """σ_k: the marginal standard deviations, shape (T+1, n)."""
+        variances = np.diagonal(self.covariances, axis1=1, axis2=2)
+        return np.sqrt(np.maximum(variances, 0.0))   # a rounding-negative zero variance is zero
+
+    @property
+    def lo(self) -> np.ndarray:
+        """means − sigmas·σ, shape (T+1, n)."""
+        return self.means - self.sigmas * self.std
+
+    @property
+    def hi(self) -> np.ndarray:
+        """means + sigmas·σ, shape (T+1, n)."""
+        return self.means + self.sigmas * self.std
+
+    @property
+    def centers(self) -> np.ndarray:
+        """The means, shape (T+1, n): the centres of the boxes."""
+        return self.means
+
+    def __len__(self) -> int:
+        return len(self.means)
 
 
 def kalman_filter(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) -> KalmanResult:
@@ -68,7 +135,7 @@ def kalman_filter(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) -
     -------
     KalmanResult
         ``means``/``covariances`` are the posteriors given y_{0:k}; ``predicted_means``/
-        ``predicted_covariances`` the priors given y_{0:k-1}.
+        ``predicted_covariances`` the priors given y_{0:k-1}; its tubes are the 3σ boxes.
 
     Raises
     ------
@@ -97,7 +164,7 @@ def kalman_filter(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) -
             mean, P = _predict(system, k - 1, means[k - 1], covs[k - 1], Q, n)
         pred_means[k], pred_covs[k] = mean, P
         means[k], covs[k] = _update(system, k, mean, P, ys[k], R, n)
-    return KalmanResult(means, covs, pred_means, pred_covs)
+    return KalmanResult(means, covs, pred_means, pred_covs, kind="Kalman filter", system=system)
 
 
 def rts_smoother(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) -> KalmanResult:
@@ -139,7 +206,7 @@ def rts_smoother(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) ->
         G = _solve_psd(P_pred, A @ filt.covariances[k]).T
         means[k] = filt.means[k] + G @ (means[k + 1] - filt.predicted_means[k + 1])
         covs[k] = _symmetrize(filt.covariances[k] + G @ (covs[k + 1] - P_pred) @ G.T)
-    return KalmanResult(means, covs)
+    return KalmanResult(means, covs, kind="RTS smoother", system=system)
 
 
 def _predict(system: Any, k: int, mean: np.ndarray, P: np.ndarray, Q: np.ndarray,
