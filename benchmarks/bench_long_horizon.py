@@ -69,10 +69,10 @@ def _example_31(B_identity_triangle: bool = False):
 def _custom_system():
     import setsmooth as ss
     from setsmooth.papers.smoothing_examples import smoothing_example_31
-    from tests.custom_sets import L1Ball, VPolytope
+    from setsmooth.sets.constraint_only import L1Ball, VertexHull
 
     base = smoothing_example_31()
-    V = VPolytope([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0], [0.0, 1.2]])
+    V = VertexHull([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0], [0.0, 1.2]])
     return ss.LinearSystem(base.A_at(0), None, base.C_at(0), E=base.E_at(0), F=base.F_at(0),
                            W=L1Ball([0.0], 1.0), V=V)
 

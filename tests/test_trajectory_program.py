@@ -6,9 +6,9 @@ import pytest
 import setsmooth as ss
 from setsmooth.solvers import generic
 from setsmooth.filters.classical import predict, update
+from setsmooth.sets.constraint_only import L1Ball, VertexHull
 from setsmooth.trajectories import TrajectorySet
 from setsmooth.trajectories.generic_program import FilteredState
-from tests.custom_sets import L1Ball, VPolytope
 from tests.estimation_helpers import example_31
 
 DIRECTIONS = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0], [1.0, 1.0], [1.0, -2.0]])
@@ -16,7 +16,7 @@ DIRECTIONS = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0], [1.0, 1
 
 def _system(kind):
     base = example_31()
-    square = VPolytope([[-1, -1], [1, -1], [1, 1], [-1, 1.2]])
+    square = VertexHull([[-1, -1], [1, -1], [1, 1], [-1, 1.2]])
     W, V = {"ellipsoid": (ss.Ellipsoid([0.1], [[0.8]]), base.V),
             "custom": (L1Ball([0.0], 1.0), square),
             "ellipsoid_V": (base.W, ss.Ellipsoid([0.0, 0.1], [[1.0, 0.2], [0.2, 0.5]]))}[kind]

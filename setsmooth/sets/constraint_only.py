@@ -1,16 +1,21 @@
-"""Sets given only by their CVXPY constraints, as the README invites users to write them.
+"""Sets given only by their CVXPY constraints, the one required method of a `ConvexSet`.
 
-Shared by the trajectory-program tests and `benchmarks/bench_long_horizon.py` (issue 8's custom-set
-noises).
+What a user's own set looks like when it defines nothing else (no CZ form, no support function): every
+query, filter and smoother then takes the generic (CVXPY) path. The trajectory-program tests and
+``benchmarks/bench_long_horizon.py`` (its ``custom`` case) run on these two.
 """
+
+from __future__ import annotations
 
 import cvxpy as cp
 import numpy as np
 
-import setsmooth as ss
+from .base import ConvexSet
+
+__all__ = ["L1Ball", "VertexHull"]
 
 
-class L1Ball(ss.ConvexSet):
+class L1Ball(ConvexSet):
     """{x : ‖x − c‖₁ ≤ r}, given only by its constraints."""
 
     def __init__(self, center, radius):
@@ -21,8 +26,9 @@ class L1Ball(ss.ConvexSet):
         return [cp.norm1(x - self.c) <= self.r]
 
 
-class VPolytope(ss.ConvexSet):
-    """The convex hull of the rows of ``vertices``, given only by its constraints."""
+class VertexHull(ConvexSet):
+    """The convex hull of the rows of ``vertices``, given only by its constraints (unlike `VPolytope`,
+    which has a CZ form)."""
 
     def __init__(self, vertices):
         self.vertices = np.asarray(vertices, dtype=float)
