@@ -7,7 +7,7 @@
    (``classical_filter(form='polygon')`` + the recursion; Fig. 3's way now).
 2. Smoothing a T = 600 horizon of a 3-state system with the trajectory form (build + all hulls).
 3. Assembling the trajectory set's sparse matrix: in one step from index arrays (`setsmooth.trajectories`)
-   vs one small scipy block per row group (the previous assembly, kept in tests/trajectory_reference.py).
+   vs one small scipy block per row group (the previous assembly, kept in setsmooth/reliability/block_assembly.py).
 
 Usage: python benchmarks/bench_smoothing.py [--repeats N] [--seed S] [--horizon T] [--trial-only]
 """
@@ -17,9 +17,6 @@ from __future__ import annotations
 import argparse
 import statistics
 import time
-
-import sys
-from pathlib import Path
 
 import numpy as np
 
@@ -98,8 +95,7 @@ def main() -> None:
 
 def assembly(system, X0, ys, repeats: int) -> None:
     """Median times of the one-step and the block-by-block assembly, at T = 50 and the full horizon."""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from tests.trajectory_reference import block_assembly
+    from setsmooth.reliability.block_assembly import block_assembly
 
     def median_time(build) -> float:
         times = []

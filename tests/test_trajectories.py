@@ -4,7 +4,7 @@ import scipy.sparse as sp
 
 import setsmooth as ss
 from setsmooth.filters.classical import predict, update
-from tests.trajectory_reference import block_assembly
+from setsmooth.reliability.block_assembly import block_assembly
 
 
 def _random_system(rng, n, time_varying=False, with_input=False, sparse_noise=False):

@@ -1,11 +1,13 @@
 """The block-by-block scipy assembly the trajectory set used before `setsmooth.trajectories` built its
-sparse matrix in one step from index arrays: kept as the reference of the bit-identity test and of the
-assembly timing in ``benchmarks/bench_smoothing.py``."""
+sparse matrix in one step from index arrays: kept as the reference of the bit-identity test
+(``tests/test_trajectories.py``) and of the assembly timing in ``benchmarks/bench_smoothing.py``."""
 
 from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
+
+__all__ = ["block_assembly"]
 
 
 def block_assembly(system, X0, ys):
