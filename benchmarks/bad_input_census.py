@@ -1,4 +1,4 @@
-"""Census of the bad-input probes of `tests/test_bad_input.py` (issue 7, "Bad input at the door").
+"""Census of the bad-input probes of `setsmooth.reliability.bad_input` (issue 7, "Bad input at the door").
 
 Every probe is one public call with one bad argument. Each is classified as
 
@@ -8,7 +8,7 @@ Every probe is one public call with one bad argument. Each is classified as
 * silent:     no exception (a NumPy ComplexWarning that drops an imaginary part counts as silent).
 
 Usage: python benchmarks/bad_input_census.py [-v]     (-v lists every probe that is not clear)
-Run it with PYTHONPATH set to a checkout to count that checkout (the probe file must be present in it).
+Run it with PYTHONPATH set to a checkout to count that checkout.
 """
 
 from __future__ import annotations
@@ -23,11 +23,12 @@ from collections import Counter
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
-from tests.test_bad_input import PROBES, Probe  # noqa: E402
-
 import setsmooth  # noqa: E402
+from setsmooth.reliability import bad_input  # noqa: E402
+from setsmooth.reliability.bad_input import PROBES, Probe  # noqa: E402
 
 _PACKAGE = os.path.dirname(os.path.realpath(setsmooth.__file__))
+_PROBES_FILE = os.path.realpath(bad_input.__file__)  # raised in a probe's own code: not setsmooth's refusal
 _EARLY = (ValueError, TypeError, IndexError)
 
 
@@ -39,7 +40,8 @@ def classify(p: Probe) -> tuple[str, str]:
             p.call()
         except Exception as exc:  # noqa: BLE001 — classifying every failure is the point
             origin = os.path.realpath(traceback.extract_tb(exc.__traceback__)[-1].filename)
-            inside = origin.startswith(_PACKAGE) and os.sep + "solvers" + os.sep not in origin
+            inside = (origin.startswith(_PACKAGE) and os.sep + "solvers" + os.sep not in origin
+                      and origin != _PROBES_FILE)
             detail = f"{type(exc).__name__}: {exc}".splitlines()[0][:110]
             if not isinstance(exc, _EARLY) or type(exc).__name__ == "SolverError" or not inside:
                 return "deep", detail
