@@ -21,10 +21,11 @@ reduced ones. One system per n (the paper averages 100); times are this machine'
     python benchmarks/bench_reduction.py --quick    # n = 10 only, 31 steps
     PYTHONPATH=. python benchmarks/bench_reduction.py --montecarlo 1000 --mc-steps 20
 
-``--montecarlo RUNS`` runs the Monte Carlo of tests/filters/test_reduced_filter.py (its `trial`
-generator: drss systems n = 2..10, m ≤ n outputs, box-uniform, box-vertex and CZ noises, the five
-pipelines in rotation) at a longer horizon than the test affords, and prints how many true states
-fall outside their reduced posterior (the claim: 0), per pipeline.
+``--montecarlo RUNS`` runs the Monte Carlo of tests/filters/test_reduced_filter.py (the `trial`
+generator of setsmooth/reliability/reduced_filter_trials.py: drss systems n = 2..10, m ≤ n outputs,
+box-uniform, box-vertex and CZ noises, the five pipelines in rotation) at a longer horizon than the
+test affords, and prints how many true states fall outside their reduced posterior (the claim: 0), per
+pipeline.
 
 BLAS runs single-threaded here (OPENBLAS_NUM_THREADS=1 unless set): the filters' dense algebra is
 small (≤ 120×120), and on a shared 2-core machine OpenBLAS's threads made a 120×120×90 product take
@@ -87,8 +88,8 @@ def montecarlo(runs: int, steps: int) -> None:
     """True states outside the reduced posteriors over `runs` seeded runs of `steps` steps."""
     from collections import Counter
 
-    from tests.filters.test_reduced_filter import PIPELINES as MC_PIPELINES
-    from tests.filters.test_reduced_filter import holds, trial
+    from setsmooth.reliability.reduced_filter_trials import PIPELINES as MC_PIPELINES
+    from setsmooth.reliability.reduced_filter_trials import holds, trial
 
     outside, states, runs_by, secs = Counter(), Counter(), Counter(), Counter()
     short_m = 0
