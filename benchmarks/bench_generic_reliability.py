@@ -23,7 +23,7 @@ from scipy.optimize import linprog
 
 import setsmooth as ss
 from setsmooth import tolerances as tol
-from tests.solvers.test_generic_reliability import rewrite
+from setsmooth.reliability.rescaling import rewrite
 
 warnings.filterwarnings("ignore")
 

@@ -99,6 +99,28 @@ def rescale(Z: ss.ConstrainedZonotope, how: str, s: np.ndarray, name: str) -> Re
     return Rescaled(name, how, Z, scaled, M, s)
 
 
+def rewrite(rng: np.random.Generator, kind: str, k: float, G, c, A, b, h
+            ) -> tuple[ss.ConstrainedZonotope, np.ndarray]:
+    """Z(G, c, A, b, h) with its constraint rows, factors or coordinates scaled by 10^U(−k, k).
+
+    Returns the CZ and σ: the same set for 'rows' and 'factors' (σ = 1), diag(σ)·Z for 'coordinates'.
+    The scalings are drawn continuously, where `rescale` takes them from `SCALES`.
+    """
+    n, ng = G.shape
+    sigma = np.ones(n)
+    G2, c2, A2, b2, h2 = G, c, A, b, h
+    if kind == "rows":
+        r = 10.0 ** rng.uniform(-k, k, A.shape[0])
+        A2, b2 = A * r[:, None], b * r
+    elif kind == "factors":
+        f = 10.0 ** rng.uniform(-k, k, ng)
+        G2, A2, h2 = G * f, A * f, h / f
+    else:
+        sigma = 10.0 ** rng.uniform(-k, k, n)
+        G2, c2 = G * sigma[:, None], c * sigma
+    return ss.ConstrainedZonotope(G2, c2, A=A2, b=b2, h=h2), sigma
+
+
 def random_rescalings(count: int, seed: int) -> list[Rescaled]:
     """``count`` rescaled random CZs (dim 2..4), cycling rows/factors/coordinates; the first is the
     issue's example CZ([[1, 1]], [0], [[1, −1]], [0.5]) with its row scaled by 1e-12."""

@@ -12,6 +12,7 @@ from scipy.optimize import linprog
 
 import setsmooth as ss
 from setsmooth import tolerances as tol
+from setsmooth.reliability.rescaling import rewrite
 
 
 def highs_support(G, c, A, b, h, d):
@@ -30,26 +31,6 @@ def rescaled(rng, kind, k):
     b, h = A @ rng.uniform(-0.5, 0.5, ng), np.ones(ng)
     Z, sigma = rewrite(rng, kind, k, G, c, A, b, h)
     return (G, c, A, b, h), Z, sigma
-
-
-def rewrite(rng, kind, k, G, c, A, b, h):
-    """Z(G, c, A, b, h) with its constraint rows, factors or coordinates scaled by 10^U(−k, k).
-
-    Returns the CZ and σ: the same set for 'rows' and 'factors' (σ = 1), diag(σ)·Z for 'coordinates'.
-    """
-    n, ng = G.shape
-    sigma = np.ones(n)
-    G2, c2, A2, b2, h2 = G, c, A, b, h
-    if kind == "rows":
-        r = 10.0 ** rng.uniform(-k, k, A.shape[0])
-        A2, b2 = A * r[:, None], b * r
-    elif kind == "factors":
-        f = 10.0 ** rng.uniform(-k, k, ng)
-        G2, A2, h2 = G * f, A * f, h / f
-    else:
-        sigma = 10.0 ** rng.uniform(-k, k, n)
-        G2, c2 = G * sigma[:, None], c * sigma
-    return ss.ConstrainedZonotope(G2, c2, A=A2, b=b2, h=h2), sigma
 
 
 @pytest.mark.parametrize("k", [6, 12])
