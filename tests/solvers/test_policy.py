@@ -56,7 +56,7 @@ def _unsettled(name, pre, answer) -> Answer:
     return Answer("unsettled", answer.eta, answer.z, "InsufficientProgress")
 
 
-def test_the_policy_is_data_a_function_of_the_purpose_and_the_programs_structure():
+def test_the_policy_is_data_a_function_of_the_purpose():
     F, _, _ = _strip()
     pre = F.presolved
     for purpose in PURPOSES:
