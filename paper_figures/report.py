@@ -66,10 +66,14 @@ def main(out: Path | None = None) -> Path:
         data = json.loads(path.read_text())
         if isinstance(data, dict) and "rows" in data:
             by_paper.setdefault(data.get("paper", UNKNOWN_PAPER), {})[path.stem] = data
-    total = sum(float(d.get("wall_time_s", 0)) for figures in by_paper.values() for d in figures.values())
+    figures_all = [d for figures in by_paper.values() for d in figures.values()]
+    wall = sum(float(d.get("wall_time_s", 0)) for d in figures_all)
+    cpu = sum(float(d.get("cpu_time_s", 0)) for d in figures_all)
     lines = ["# Paper figures: published vs reproduced", "",
              f"Generated {datetime.now(timezone.utc):%Y-%m-%d %H:%M UTC} on {platform.node() or 'unknown'} "
-             f"(Python {platform.python_version()}) with `setsmooth`; total figure wall time {total:.0f} s.",
+             f"(Python {platform.python_version()}) with `setsmooth`; the figures' own times sum to "
+             f"{cpu:.0f} CPU-s and {wall:.0f} wall-s (figures run side by side, so the run itself took "
+             "less wall time than that sum).",
              ""]
     if by_paper:
         lines += ["Papers: " + ", ".join(f"{paper} ({len(figs)} figures)" for paper, figs in by_paper.items()),
