@@ -50,6 +50,7 @@ class Incident:
     T_range: tuple[int, int] = (10, 40)
     n_range: tuple[int, int] = (2, 6)
     cap_singular_radius: bool = True
+    noise: str | None = None  # `base_case`'s noise type (None: its box/CZ alternation)
 
     @property
     def name(self) -> str:
@@ -63,7 +64,7 @@ class Incident:
 
     def case(self):
         return in_regime(base_case(self.seed, self.index, T_range=self.T_range,
-                                   n_range=self.n_range,
+                                   n_range=self.n_range, noise=self.noise,
                                    cap_singular_radius=self.cap_singular_radius), self.regime)
 
 
@@ -74,7 +75,8 @@ def load(path: Path) -> Incident:
                     hi=np.array(data["hi"], dtype=float), sigma=float(data["sigma"]),
                     seed=data["seed"], T_range=tuple(data["T_range"]),
                     n_range=tuple(data["n_range"]),
-                    cap_singular_radius=data.get("cap_singular_radius", True))
+                    cap_singular_radius=data.get("cap_singular_radius", True),
+                    noise=data.get("noise"))
 
 
 def corpus() -> list[Path]:
@@ -118,7 +120,7 @@ def record(index: int, regime: str, estimator: str, k: int | None, history: str,
         lo, hi = lo[0], hi[0]
     data = {"index": index, "regime": regime, "estimator": estimator, "k": k, "history": history,
             "seed": draft.seed, "T_range": list(draft.T_range), "n_range": list(draft.n_range),
-            "cap_singular_radius": draft.cap_singular_radius,
+            "cap_singular_radius": draft.cap_singular_radius, "noise": draft.noise,
             "sigma": data_scale(case.system, case.X0), "lo": lo.tolist(), "hi": hi.tolist()}
     CASES.mkdir(exist_ok=True)
     path = CASES / f"{draft.name}.json"

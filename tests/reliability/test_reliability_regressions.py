@@ -15,11 +15,13 @@ first (`policy.POLICIES`).
 
 from __future__ import annotations
 
+import numpy as np
+
 import setsmooth as ss
 from setsmooth.solvers import factor_set
 from setsmooth.solvers.backends import BACKENDS
 
-from setsmooth.reliability.random_systems import base_case
+from setsmooth.reliability.random_systems import base_case, in_regime
 
 
 def test_recursion_smoother_directions_are_answered_by_the_simplex_method_first(monkeypatch):
@@ -63,3 +65,26 @@ def test_recursion_smoother_directions_are_answered_by_the_simplex_method_first(
 def test_case_209s_initial_set_holds_its_initial_state():
     case = base_case(2026, 209)
     assert case.X0.contains(case.xs[0])
+
+
+def test_a_posterior_pinned_by_rounded_data_holds_the_truth_by_membership_as_by_its_hull():
+    """Case 069 at offset 1e6 (three outputs, one measurement noise: the data pin the state, and
+    the 1e6-sized data rounded to 1e-10 are inconsistent in exact arithmetic): membership used to
+    call the true x_8 outside (the simplex method on the stored rows) and to raise at x_9, where
+    the certified hull held it. An unsettled membership program is now decided as an unsettled
+    support is, on the rows relaxed by the phase-one residual."""
+    case = in_regime(base_case(2026, 69, T_range=(10, 14), noise="box"), "offset1e+06")
+    posteriors = ss.classical_filter(case.system, case.X0, case.ys)
+    assert posteriors.contains_trajectory(case.xs).all()
+    for k in (8, 9):
+        hull = posteriors[k].interval_hull(certified=True)
+        assert np.all(hull.lo <= case.xs[k]) and np.all(case.xs[k] <= hull.hi)
+
+
+def test_the_recursion_smoothers_membership_asks_its_data_reference():
+    """Case 074 at offset 1e6: the recursion smoother's membership program on its own CZ (the
+    normalized one of `settled_without_hull`) raised NumericalError; it is asked of the data
+    reference now, like every other query of the set."""
+    case = in_regime(base_case(2026, 74, T_range=(10, 14), noise="zonotope"), "offset1e+06")
+    smoothed = ss.optimal_smoother(case.system, case.X0, case.ys, method="recursion")
+    assert smoothed.contains_trajectory(case.xs).all()
