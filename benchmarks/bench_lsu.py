@@ -30,7 +30,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "paper_figures")
 import _lsu_examples as ex  # noqa: E402
 
 PARTS = {
-    "LSU-CZ": {"algebra": ("classical.py", ("_predict", "_update")),
+    "LSU-CZ": {"algebra": ("steps.py", ("_predict", "_update")),
                "reduction": ("__init__.py", ("apply_methods",)),
                "vertices": ("cz_vertices.py", ("cz_vertices",)),
                "hull (Qhull)": ("cz_vertices.py", ("hull_geometry",)),

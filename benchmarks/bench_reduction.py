@@ -45,7 +45,7 @@ import control  # noqa: E402
 import numpy as np  # noqa: E402
 
 import setsmooth as ss  # noqa: E402
-from setsmooth.filters.classical import predict, update  # noqa: E402
+from setsmooth.filters.steps import predict, update  # noqa: E402
 from setsmooth.sets.reduction import apply_methods  # noqa: E402
 
 #: Steps of the exact filter per n: its interval hulls are LPs over n + 2nk factors.

@@ -24,7 +24,7 @@ import numpy as np  # noqa: E402
 
 import setsmooth as ss  # noqa: E402
 from setsmooth import arena  # noqa: E402
-from setsmooth.filters.classical import predict, update  # noqa: E402
+from setsmooth.filters.steps import predict, update  # noqa: E402
 
 
 class ConstraintBox(ss.ConvexSet):

@@ -10,7 +10,7 @@ import pytest
 import scipy.sparse as sp
 
 import setsmooth as ss
-from setsmooth.filters.classical import predict
+from setsmooth.filters.steps import predict
 from setsmooth.trajectories.nominal import about_nominal
 from setsmooth.sets.base import ConvexSet
 from tests.estimation_helpers import example_31, time_varying_system

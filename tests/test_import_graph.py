@@ -13,7 +13,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1] / "setsmooth"
 
 #: The loops still closed by an import inside a function (strongly connected components).
-KNOWN_LOOPS = 2
+KNOWN_LOOPS = 1
 
 
 def _module(path: Path) -> str:

@@ -8,7 +8,7 @@ import scipy.sparse as sp
 from scipy.optimize import linprog
 
 import setsmooth as ss
-from setsmooth.filters.classical import predict, update
+from setsmooth.filters.steps import predict, update
 
 #: A horizon long enough for the views' sharing to matter (the recursion is O(T³)).
 HORIZON = 64

@@ -3,7 +3,7 @@ import pytest
 import scipy.sparse as sp
 
 import setsmooth as ss
-from setsmooth.filters.classical import predict, update
+from setsmooth.filters.steps import predict, update
 from setsmooth.reliability.block_assembly import block_assembly
 
 

@@ -5,7 +5,7 @@ import pytest
 
 import setsmooth as ss
 from setsmooth.solvers import generic
-from setsmooth.filters.classical import predict, update
+from setsmooth.filters.steps import predict, update
 from setsmooth.sets.constraint_only import L1Ball, VertexHull
 from setsmooth.trajectories import TrajectorySet
 from setsmooth.trajectories.generic_program import FilteredState

@@ -5,7 +5,8 @@
 
 Under unrelated noises this is the optimal SMF (rethinking paper Corollary 1; smoothing paper Lemma 3).
 With constrained-zonotope inputs the set algebra produces exactly the CZs of stability (20)–(21); with
-other representations the sets stay exact, as lazy sets.
+other representations the sets stay exact, as lazy sets. The two steps are `setsmooth.filters.steps`;
+`first_inconsistency` runs the filter to find where the data contradict the model.
 """
 
 from __future__ import annotations
@@ -14,15 +15,21 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_vector, check_system, given_instead_of_set, measured
-from ..trajectories.nominal import RecursionDeviations, about_nominal
+from .._validation import measured
 from ..results import SetEstimates
-from ..sets.algebra import generalized_intersection, linear_map, minkowski_sum, translate
 from ..sets.base import ConvexSet
 from ..sets.empty import EmptySet
 from ..sets.reduction import apply_methods, as_methods
-from .consistency import ON_INCONSISTENT, first_inconsistency, report_inconsistency
+from ..trajectories.generic_program import filtered_ranges
+from ..trajectories.nominal import RecursionDeviations, about_nominal
+from ..trajectories.posterior_views import posterior_views
+from ..trajectories.recursion_certificates import certified_against_data
+from ._polygon_form import polygon_posteriors
+from .consistency import ON_INCONSISTENT, Inconsistency, filter_inconsistency, report_inconsistency
 from .hulls_along_time import filtered_hulls
+from .steps import _check_state_set, _predict, _update
+
+__all__ = ["classical_filter", "first_inconsistency", "FORMS"]
 
 #: The forms of the exact filter's CZ posteriors (``form=``). 'views': the last projections of one
 #: sparse trajectory CZ (`setsmooth.trajectories.posterior_views`), O(T) memory for a data set, and the
@@ -104,7 +111,7 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
         When ``system`` is not a setsmooth system: a `control.StateSpace` is led to
         `LinearSystem.from_statespace`, which adds the noise ranges.
     """
-    given, as_given = system, ys   # the inconsistency is reported in the user's terms (y_k with D u_k)
+    given = system   # the inconsistency is reported in the user's terms (y_k with D u_k)
     system, ys = measured(system, ys)
     _check_state_set(X0, "X0", system.n)
     if on_inconsistent not in ON_INCONSISTENT:
@@ -112,8 +119,36 @@ def classical_filter(system, X0: ConvexSet, ys: Any, *, reduce: Any = None,
     result = _filtered(system, X0, ys, reduce, detect_empty, form)
     if detect_empty and on_inconsistent != "ignore" and len(result) \
             and isinstance(result[-1], EmptySet):  # (empty from the first empty one on)
-        report_inconsistency(first_inconsistency(given, X0, as_given, result), on_inconsistent)
+        report_inconsistency(filter_inconsistency(system, X0, ys, result, given), on_inconsistent)
     return result
+
+
+def first_inconsistency(system, X0: ConvexSet, ys: Any,
+                        estimates: SetEstimates | None = None) -> Inconsistency | None:
+    """The first step at which the measurements ``ys`` contradict the model, or None: the first
+    empty posterior of Algorithm 1 (stability paper (3)–(4)) and y_k's distance from the output set
+    predicted from the data before it (`setsmooth.filters.consistency`).
+
+    Parameters
+    ----------
+    system : LinearSystem
+    X0 : ConvexSet
+    ys : array_like, shape (T+1, m)
+    estimates : SetEstimates, optional
+        The exact filter's sets on these data, when already computed (`classical_filter`); an
+        outer-bound filter's (`oit_cz_filter`, a reduced filter) give its first empty step, which may
+        come later. Not a smoother's: its sets are all empty or none is (ValueError).
+
+    Returns
+    -------
+    Inconsistency or None
+        None when the data are consistent with the model (every posterior non-empty).
+    """
+    given = system
+    system, ys = measured(system, ys)
+    if estimates is None:
+        estimates = classical_filter(system, X0, ys, on_inconsistent="ignore")
+    return filter_inconsistency(system, X0, ys, estimates, given)
 
 
 def _filtered(system, X0: ConvexSet, ys: np.ndarray, reduce: Any, detect_empty: bool,
@@ -128,8 +163,6 @@ def _filtered(system, X0: ConvexSet, ys: np.ndarray, reduce: Any, detect_empty: 
         return SetEstimates(_reduced_filter(system, X0, ys, as_methods(reduce, "reduce"), detect_empty),
                             system=system, X0=X0, ys=ys, kind="filtered", outer=True)
     if form == "polygon":
-        from ._polygon_form import polygon_posteriors
-
         return SetEstimates(polygon_posteriors(system, X0, ys), system=system, X0=X0, ys=ys,
                             kind="filtered")
     posteriors: list[ConvexSet] | None = None
@@ -137,14 +170,10 @@ def _filtered(system, X0: ConvexSet, ys: np.ndarray, reduce: Any, detect_empty: 
     if not cz_form:
         # Without a CZ form the recursion's sets nest O(k) deep, one CVXPY compilation per query:
         # the same posteriors as projections of one compiled trajectory program (bounded states).
-        from ..trajectories.generic_program import filtered_ranges
-
         posteriors = filtered_ranges(system, X0, ys)
     elif form != "recursion":
         # The recursion's CZs grow O(k²) dense rows each (O(T³) time and memory over a data set);
         # as views of one sparse trajectory CZ they are the same sets at O(k) per query, O(T) kept.
-        from ..trajectories.posterior_views import posterior_views
-
         posteriors = posterior_views(system, X0, ys)
     deviations = None
     if posteriors is None:
@@ -158,8 +187,6 @@ def _filtered(system, X0: ConvexSet, ys: np.ndarray, reduce: Any, detect_empty: 
             posteriors = form_about.to_states(deviations)
         # The recursion's CZs are certified against the data
         # (`setsmooth.trajectories.recursion_certificates`).
-        from ..trajectories.recursion_certificates import certified_against_data
-
         posteriors = certified_against_data(posteriors, system, X0, ys, "filtered")
     if detect_empty:
         first = _first_empty(posteriors)
@@ -233,78 +260,3 @@ def _first_empty(posteriors: list[ConvexSet]) -> int:
         else:
             lo = mid + 1
     return lo
-
-
-def predict(system, k: int, posterior: ConvexSet) -> ConvexSet:
-    """⟦x_{k+1} | y_{0:k}⟧ = A_k ⟦x_k | y_{0:k}⟧ ⊕ E_k W ⊕ {B_k u_k} (stability (3), CZ form (20)).
-
-    Parameters
-    ----------
-    system : LinearSystem
-    k : int
-        Time step of ``posterior``.
-    posterior : ConvexSet
-        ⟦x_k | y_{0:k}⟧, of dimension n.
-
-    Returns
-    -------
-    ConvexSet
-        The prior ⟦x_{k+1} | y_{0:k}⟧; E_k W is the system's cached image when E is constant, and a
-        zero B_k u_k adds no translation.
-
-    Raises
-    ------
-    ValueError
-        When ``posterior`` is not a set of dimension n.
-    """
-    _check_state_set(posterior, "posterior", check_system(system).n)
-    return _predict(system, k, posterior)
-
-
-def update(system, k: int, prior: ConvexSet, y: Any) -> ConvexSet:
-    """⟦x_k | y_{0:k}⟧ = prior ∩_{C_k} (y_k − D_k u_k ⊕ F_k(−V)) (stability (4), CZ form (21)).
-
-    Parameters
-    ----------
-    system : LinearSystem
-    k : int
-        Time step of the measurement.
-    prior : ConvexSet
-        ⟦x_k | y_{0:k−1}⟧, of dimension n.
-    y : array_like, shape (m,)
-        The measurement y_k (as measured: the feedthrough D_k u_k is subtracted here).
-
-    Returns
-    -------
-    ConvexSet
-        The posterior; F_k(−V) is the system's cached image when F is constant.
-
-    Raises
-    ------
-    ValueError, TypeError
-        When ``prior`` is not a set of dimension n, or ``y`` is not a finite real vector of length m.
-    """
-    _check_state_set(prior, "prior", check_system(system).n)
-    y = as_vector(y, "y", system.m)
-    return _update(system, k, prior, y - system.feedthrough_term(k) if system.has_feedthrough else y)
-
-
-# The loop's steps trust their operands: the matrices were validated by the LinearSystem (a callable's
-# value at each call), the sets and measurements by the public door above, so they go straight to the
-# set algebra instead of through the operators, which would validate every matrix again every step.
-def _predict(system, k: int, posterior: ConvexSet) -> ConvexSet:
-    prior = minkowski_sum(linear_map(system.A_at(k), posterior), system.process_noise_image(k))
-    u = system.nonzero_input(k)
-    return prior if u is None else translate(prior, u)
-
-
-def _update(system, k: int, prior: ConvexSet, y: np.ndarray) -> ConvexSet:
-    return generalized_intersection(prior, system.C_at(k), translate(system.measurement_noise_image(k), y))
-
-
-def _check_state_set(S: Any, name: str, n: int) -> None:
-    """A ValueError naming ``name``, n and what was given, unless S is a `ConvexSet` of dimension n."""
-    if not isinstance(S, ConvexSet):
-        raise ValueError(f"{name} must be a ConvexSet of dimension n = {n}, {given_instead_of_set(S, name)}")
-    if S.dim != n:
-        raise ValueError(f"{name} must be a ConvexSet of dimension n = {n}, got one of dimension {S.dim}")

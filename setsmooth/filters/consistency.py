@@ -10,9 +10,11 @@ measurement y_k lies outside the output set predicted from the data before it,
 (P_k the prediction (3) of the stability paper's Algorithm 1; the update (4) intersects it with the
 states whose output can be y_k, empty exactly when y_k ∉ O_k),
 
-and `first_inconsistency` reports k, y_k and its ∞-norm distance from O_k. That distance is the
-closest-point program's value (`ConvexSet.center(method='closest')`), a measure of how far the data
-miss, not a certified bound; the verdict itself is the filter's certified emptiness decision.
+and `first_inconsistency` reports k, y_k and its ∞-norm distance from O_k (it lives beside the filter
+it runs, in `setsmooth.filters.classical`; `filter_inconsistency` here reads the filter's sets). That
+distance is the closest-point program's value (`ConvexSet.center(method='closest')`), a measure of how
+far the data miss, not a certified bound; the verdict itself is the filter's certified emptiness
+decision.
 
 The other estimators report the same way (`ModelInvalidationWarning`, ``on_inconsistent``):
 `optimal_smoother` (its sets are all empty exactly when a posterior is, and it names the filter's first
@@ -38,14 +40,14 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import measured
 from ..results import SetEstimates
 from ..sets.algebra import linear_map, minkowski_sum
 from ..sets.base import ConvexSet
 from ..sets.empty import EmptySet
+from .steps import _predict
 
 __all__ = ["Inconsistency", "IntervalInconsistency", "ModelInvalidationWarning", "ModelInvalidatedError",
-           "first_inconsistency", "outer_inconsistency", "report_inconsistency", "check_on_inconsistent",
+           "filter_inconsistency", "outer_inconsistency", "report_inconsistency", "check_on_inconsistent",
            "ON_INCONSISTENT"]
 
 #: What an estimator does when the data contradict the model: warn (the default), raise, or ignore.
@@ -141,44 +143,39 @@ def _first_empty(estimates: SetEstimates) -> int | None:
     return marked[0] if marked else estimates.first_empty
 
 
-def first_inconsistency(system, X0: ConvexSet, ys: Any,
-                        estimates: SetEstimates | None = None) -> Inconsistency | None:
-    """The first step at which the measurements ``ys`` contradict the model, or None: the first
-    empty posterior of Algorithm 1 (stability paper (3)–(4)) and y_k's distance from O_k.
+def filter_inconsistency(system, X0: ConvexSet, ys: np.ndarray, estimates: SetEstimates,
+                         given: Any = None) -> Inconsistency | None:
+    """The first step at which a filter's sets ``estimates`` on ``ys`` are empty, as an
+    `Inconsistency` (y_k's distance from O_k), or None: `first_inconsistency` once the filter has run.
 
     Parameters
     ----------
     system : LinearSystem
     X0 : ConvexSet
-    ys : array_like, shape (T+1, m)
-    estimates : SetEstimates, optional
-        The exact filter's sets on these data, when already computed (`classical_filter`); an
-        outer-bound filter's (`oit_cz_filter`, a reduced filter) give its first empty step, which may
-        come later. Not a smoother's: its sets are all empty or none is (ValueError).
-
-    Returns
-    -------
-    Inconsistency or None
-        None when the data are consistent with the model (every posterior non-empty).
+    ys : ndarray, shape (T+1, m)
+        The measurements, already checked (feedthrough taken off).
+    estimates : SetEstimates
+        The exact filter's sets on these data (an outer-bound filter's give its first empty step,
+        which may come later); not a smoother's (ValueError).
+    given : LinearSystem, optional
+        The system as the user gave it, as in `outer_inconsistency`.
     """
-    from .classical import _predict, classical_filter
-
-    given = system
-    system, ys = measured(system, ys)
-    if estimates is None:
-        estimates = classical_filter(system, X0, ys, on_inconsistent="ignore")
-    elif len(estimates) != len(ys):
+    if len(estimates) != len(ys):
         raise ValueError(f"estimates has {len(estimates)} sets but ys has {len(ys)} measurements: "
                          "they must be the filter's sets on these data")
     k = _first_empty(estimates)
-    if k is None:
-        return None
-    y = ys[k]
+    return None if k is None else _inconsistency_at(system, X0, ys, estimates, k, "", given)
+
+
+def _inconsistency_at(system, X0: ConvexSet, ys: np.ndarray, estimates: list, k: int, estimator: str,
+                      given: Any) -> Inconsistency:
+    """y_k's ∞-norm distance from the output set predicted (stability (3)) from ``estimates[k − 1]``
+    (from X0 at k = 0), as an `Inconsistency`."""
     prior = X0 if k == 0 else _predict(system, k - 1, estimates[k - 1])
-    closest = _predicted_outputs(system, k, prior).center(method="closest", reference=y,
-                                                           norm=np.inf)
+    y = ys[k]
+    closest = _predicted_outputs(system, k, prior).center(method="closest", reference=y, norm=np.inf)
     distance = float(np.abs(closest - y).max()) if np.all(np.isfinite(closest)) else np.inf
-    return Inconsistency(k, _as_given(y, k, system, given), distance)
+    return Inconsistency(k, _as_given(y, k, system, given), distance, estimator)
 
 
 def _as_given(y: np.ndarray, k: int, system, given) -> np.ndarray:
@@ -229,12 +226,4 @@ def outer_inconsistency(system, X0: ConvexSet, ys: np.ndarray, estimates: list, 
         measurement is then y_k as given, D_k u_k included (as `first_inconsistency` reports it).
     """
     k = next((k for k, S in enumerate(estimates) if isinstance(S, EmptySet)), None)
-    if k is None:
-        return None
-    from .classical import _predict
-
-    prior = X0 if k == 0 else _predict(system, k - 1, estimates[k - 1])
-    y = ys[k]
-    closest = _predicted_outputs(system, k, prior).center(method="closest", reference=y, norm=np.inf)
-    distance = float(np.abs(closest - y).max()) if np.all(np.isfinite(closest)) else np.inf
-    return Inconsistency(k, _as_given(y, k, system, given), distance, estimator)
+    return None if k is None else _inconsistency_at(system, X0, ys, estimates, k, estimator, given)

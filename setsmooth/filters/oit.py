@@ -30,8 +30,9 @@ from ..sets.base import ConvexSet
 from ..sets.empty import EmptySet
 from ..sets.reals import Reals
 from ._oit_support import Structure, structure
-from .classical import _check_state_set, _first_empty, _predict, _update
+from .classical import _first_empty
 from .consistency import check_on_inconsistent, outer_inconsistency, report_inconsistency
+from .steps import _check_state_set, _predict, _update
 
 __all__ = ["oit_inspired_filter", "OITResult"]
 

@@ -23,9 +23,9 @@ from ..sets.empty import EmptySet
 from ..solvers.parametric import ParametricSupport
 from ._oit_support import Structure, upsilon_inf
 from ._window import Window
-from .classical import _check_state_set, _predict, _update
 from .consistency import check_on_inconsistent, outer_inconsistency, report_inconsistency
 from .oit import OITResult, _check_int, _reset, _structure
+from .steps import _check_state_set, _predict, _update
 
 __all__ = ["oit_cz_filter", "run_oit_cz"]
 

@@ -45,7 +45,8 @@ from ..sets.constrained_zonotope import ConstrainedZonotope
 from ..sets.empty import EmptySet
 from ..sets.reals import Reals
 from ..models.systems import LinearSystem
-from .classical import _check_state_set, _first_empty
+from .classical import _first_empty
+from .steps import _check_state_set
 
 __all__ = ["joint_trajectory_set", "optimal_filter", "optimal_joint_smoother",
            "augment_identical_process_noise"]

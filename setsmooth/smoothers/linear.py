@@ -22,14 +22,18 @@ from __future__ import annotations
 from typing import Any
 
 from .._validation import check_system, measured
-from ..filters.classical import _check_state_set, classical_filter
-from ..filters.consistency import check_on_inconsistent, first_inconsistency, report_inconsistency
+from ..filters._polygon_form import noise_polygon
+from ..filters.classical import classical_filter, first_inconsistency
+from ..filters.consistency import check_on_inconsistent, report_inconsistency
+from ..filters.steps import _check_state_set
 from ..results import SetEstimates
 from ..sets.algebra import generalized_intersection, minkowski_sum, translate
 from ..sets.base import ConvexSet
 from ..sets.empty import EmptySet
 from ..sets.polygon import Polygon
 from ..trajectories import trajectory_set
+from ..trajectories.posterior_views import smoothed_ranges_from_trajectories
+from ..trajectories.recursion_certificates import certified_against_data
 
 _METHODS = ("auto", "recursion", "trajectory")
 
@@ -126,8 +130,6 @@ def optimal_smoother(system, X0: ConvexSet, ys: Any, *, method: str = "auto",
     if isinstance(posteriors, SetEstimates) and not outer:
         # Exact sets of these data: certified against the data
         # (`setsmooth.trajectories.recursion_certificates`).
-        from ..trajectories.recursion_certificates import certified_against_data
-
         smoothed = certified_against_data(smoothed, system, X0, ys, "smoothed")
     smoothed = SetEstimates(smoothed, system=system, X0=X0, ys=ys, kind="smoothed", outer=outer)
     report_inconsistency(_emptied(smoothed, given, X0, as_given, posteriors, on_inconsistent),
@@ -204,17 +206,9 @@ def _smoothing_step(system, k: int, posterior: ConvexSet, next_smoothed: ConvexS
     if isinstance(next_smoothed, Polygon):
         # Polygons charge every rounding to their pad; the algebra's image E_k(−W) is computed in
         # floating point, so its polygon comes with that rounding charged too.
-        from ..filters._polygon_form import noise_polygon
-
         noise = noise_polygon(system, k, negated=True) or noise
     reachable_from = minkowski_sum(next_smoothed, noise)
     u = system.nonzero_input(k)
     if u is not None:
         reachable_from = translate(reachable_from, -u)
     return generalized_intersection(posterior, system.A_at(k), reachable_from)
-
-
-def smoothed_ranges_from_trajectories(trajectories: ConvexSet, n: int) -> list[ConvexSet]:
-    """Project the trajectory set onto each x_k: ⟦x_k | y_{0:T}⟧ = π_k(⟦x_{0:T} | y_{0:T}⟧)."""
-    T = trajectories.dim // n - 1
-    return [trajectories.project(range(k * n, (k + 1) * n)) for k in range(T + 1)]

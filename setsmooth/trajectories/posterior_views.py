@@ -1,4 +1,5 @@
-"""The exact filter's posteriors as views of one trajectory set: O(T) memory for all of them.
+"""The exact filter's posteriors as views of one trajectory set: O(T) memory for all of them (and the
+smoothed ranges as its projections).
 
 The posterior ⟦x_k | y_{0:k}⟧ is the last projection of the trajectories 0..k consistent with y_{0:k}
 (stability paper (7), smoothing paper Theorem 1 with T = k). In the sparse trajectory CZ of
@@ -12,6 +13,10 @@ and time over a data set (2.9 GB and 0.3 s per step at T = 400 on example (31)).
 free factors every row couples neighbouring times only: O(k) nonzeros per posterior, and the O(k)-sized
 matrices of one posterior exist only while it is being queried (its prefix is cut out of the shared
 trajectory CZ and kept in the bounded per-thread cache of `solvers.instances`).
+
+The smoothed ranges ⟦x_k | y_{0:T}⟧ are the projections of the whole trajectory set on each x_k
+(smoothing paper Theorem 1 and Corollary 1): `smoothed_ranges_from_trajectories`, for any
+representation of it.
 """
 
 from __future__ import annotations
@@ -19,10 +24,12 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from ..sets.base import ConvexSet
 from ..sets.constrained_zonotope import ConstrainedZonotope
 from ..solvers.instances import cached_instance
+from .sparse_cz import TrajectoryFactors, _assemble
 
-__all__ = ["PosteriorView", "posterior_views"]
+__all__ = ["PosteriorView", "posterior_views", "smoothed_ranges_from_trajectories"]
 
 
 class _SharedTrajectories:
@@ -30,8 +37,6 @@ class _SharedTrajectories:
 
     def __init__(self, system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope,
                  Zv: ConstrainedZonotope, ys: np.ndarray):
-        from .sparse_cz import _assemble
-
         T = ys.shape[0] - 1
         self.n, self.T = system.n, T
         full = _assemble(system, Z0, Zw, Zv, ys, 0, T)
@@ -88,8 +93,6 @@ class _SharedTrajectories:
 
     def trajectories(self, k: int) -> ConstrainedZonotope:
         """The trajectory CZ over 0..k: exactly `sparse_cz._assemble` over 0..k, cut out."""
-        from .sparse_cz import TrajectoryFactors
-
         A, b, h, slack, slack_free = self._cut(k)
         n_states = self.n * (k + 1)
         G = sp.csc_matrix((np.ones(n_states), (np.arange(n_states), np.arange(n_states))),
@@ -100,8 +103,6 @@ class _SharedTrajectories:
     def posterior(self, k: int) -> ConstrainedZonotope:
         """⟦x_k | y_{0:k}⟧: the projection on x_k of the trajectories 0..k (G selects the states
         of time k, the last n factors of the states' block)."""
-        from .sparse_cz import TrajectoryFactors
-
         A, b, h, slack, slack_free = self._cut(k)
         n = self.n
         itype = np.int32 if A.shape[1] < np.iinfo(np.int32).max else np.int64
@@ -175,3 +176,9 @@ def posterior_views(system, X0: ConstrainedZonotope, ys: np.ndarray) -> list[Pos
     shared = _SharedTrajectories(system, X0.to_constrained_zonotope(), system.W.to_constrained_zonotope(),
                                  system.V.to_constrained_zonotope(), ys)
     return [PosteriorView(shared, k) for k in range(ys.shape[0])]
+
+
+def smoothed_ranges_from_trajectories(trajectories: ConvexSet, n: int) -> list[ConvexSet]:
+    """Project the trajectory set onto each x_k: ⟦x_k | y_{0:T}⟧ = π_k(⟦x_{0:T} | y_{0:T}⟧)."""
+    T = trajectories.dim // n - 1
+    return [trajectories.project(range(k * n, (k + 1) * n)) for k in range(T + 1)]

@@ -29,6 +29,8 @@ import threading
 import numpy as np
 
 from ..sets.constrained_zonotope import ConstrainedZonotope
+from .posterior_views import posterior_views, smoothed_ranges_from_trajectories
+from .sparse_cz import trajectory_set
 
 __all__ = ["DataReference", "certified_against_data"]
 
@@ -45,13 +47,8 @@ class _SharedReferences:
         with self._lock:
             if self._sets is None:
                 if self.kind == "filtered":
-                    from .posterior_views import posterior_views
-
                     self._sets = posterior_views(self.system, self.X0, self.ys)
                 else:
-                    from ..smoothers.linear import smoothed_ranges_from_trajectories
-                    from .sparse_cz import trajectory_set
-
                     self._sets = smoothed_ranges_from_trajectories(
                         trajectory_set(self.system, self.X0, self.ys), self.system.n)
             return self._sets[k]

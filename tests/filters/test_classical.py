@@ -3,7 +3,7 @@ import pytest
 import scipy.sparse as sp
 
 import setsmooth as ss
-from setsmooth.filters.classical import predict, update
+from setsmooth.filters.steps import predict, update
 from tests.estimation_helpers import (DIRECTIONS_2D, contains_by_support, example_31, singular_system,
                                       time_varying_system)
 

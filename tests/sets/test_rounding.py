@@ -338,7 +338,7 @@ def test_a_hand_written_recursion_keeps_its_certified_hull_at_the_solvers_value(
     its width; at k = 100 it is within 1e-6 of the width of the solver's own values and holds the
     true state."""
     from setsmooth.analysis.random_systems import random_observable_system
-    from setsmooth.filters.classical import predict, update
+    from setsmooth.filters.steps import predict, update
     from setsmooth.reliability.compare import TrajectoryOracle
 
     n, T = 10, 100
