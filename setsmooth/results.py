@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Iterable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any, Protocol
 
@@ -353,8 +354,6 @@ class SetEstimates(Tubes, list):
 
             if workers == 1 or len(self) < 2:
                 return [hull(S) for S in self]
-            from concurrent.futures import ThreadPoolExecutor
-
             with ThreadPoolExecutor(max_workers=int(workers)) as pool:
                 return list(pool.map(hull, self))
 

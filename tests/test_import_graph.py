@@ -15,6 +15,18 @@ ROOT = Path(__file__).resolve().parents[1] / "setsmooth"
 #: The loops still closed by an import inside a function (strongly connected components).
 KNOWN_LOOPS = 1
 
+#: Third-party packages that may be imported inside a function, to stay optional (Dask's
+#: ``distributed``) or out of the import time of the package, the command line and the numpy-only
+#: layers (plotting, python-control, progress bars, thread control).
+LAZY_PACKAGES = ("matplotlib", "mpl_toolkits", "control", "tqdm", "distributed", "threadpoolctl")
+
+#: A ceiling on every other import inside a function: it may only go down. They are the imports that
+#: close the sets/ loop (`ConvexSet`'s operators and relations call the algorithms built on it:
+#: base, relations, extension, box), the command line's (`runs.cli`, `arena.command`: no NumPy or
+#: solver at start-up), `analysis`'s of sets and models (it stays a NumPy-only layer, without
+#: CVXPY), and those of `solvers/`, `sets/constrained_zonotope.py` and `trajectories/sparse_cz.py`.
+MAX_OTHER_IMPORTS_INSIDE_FUNCTIONS = 57
+
 
 def _module(path: Path) -> str:
     parts = list(path.relative_to(ROOT.parent).with_suffix("").parts)
@@ -101,3 +113,24 @@ def test_no_loop_among_module_level_imports():
 def test_no_new_loop_behind_imports_inside_functions():
     loops = _loops(_graph(module_level_only=False))
     assert len(loops) <= KNOWN_LOOPS, loops
+
+
+def _imports_inside_functions() -> list[tuple[str, int, str]]:
+    """(module, line, imported module) of every import statement inside a function of setsmooth."""
+    found = set()
+    for path in ROOT.rglob("*.py"):
+        tree = ast.parse(path.read_text())
+        for function in ast.walk(tree):
+            if isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                for node in ast.walk(function):
+                    if isinstance(node, ast.Import):
+                        found.add((_module(path), node.lineno, node.names[0].name))
+                    elif isinstance(node, ast.ImportFrom):
+                        found.add((_module(path), node.lineno, "." * node.level + (node.module or "")))
+    return sorted(found)
+
+
+def test_imports_inside_functions_are_lazy_dependencies_or_fewer_than_before():
+    other = [found for found in _imports_inside_functions()
+             if found[2].split(".")[0] not in LAZY_PACKAGES]
+    assert len(other) <= MAX_OTHER_IMPORTS_INSIDE_FUNCTIONS, other

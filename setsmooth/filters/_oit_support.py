@@ -14,6 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import tolerances as tol
+from ..analysis import (ObservabilityDecomposition, observability_decomposition,
+                        upsilon_inf as analysis_upsilon)
 
 __all__ = ["Structure", "structure"]
 
@@ -50,8 +52,6 @@ class Structure:
 
 def structure(A: np.ndarray, C: np.ndarray, decomposition=None) -> Structure:
     """The `Structure` of (A, C), from ``decomposition`` when given (an `analysis` decomposition)."""
-    from ..analysis import ObservabilityDecomposition, observability_decomposition
-
     if decomposition is None:
         decomposition = observability_decomposition(A, C)
     elif not isinstance(decomposition, ObservabilityDecomposition):
@@ -85,6 +85,4 @@ def zero_eigenvalue_index(M: np.ndarray) -> int:
 
 def upsilon_inf(A_obar: np.ndarray) -> float:
     """Υ∞ of Algorithm 3 Line 1 (`setsmooth.analysis.upsilon_inf`)."""
-    from ..analysis import upsilon_inf as analysis_upsilon
-
     return float(analysis_upsilon(A_obar))

@@ -22,6 +22,7 @@ from .._validation import (as_generator, as_vector, check_dim, check_system, giv
 from ..sets.algebra import linear_map
 from ..sets.base import ConvexSet
 from .matrices import MatrixSpec, TimeVarying, check_state_dimension, known_input, noise_matrix
+from .statespace import linear_system_from_statespace
 
 
 class LinearSystem:
@@ -388,8 +389,6 @@ class LinearSystem:
         >>> system.n, system.n_u, system.W.dim, system.dt, system.has_input
         (2, 1, 2, 0.1, True)
         """
-        from .statespace import linear_system_from_statespace
-
         return linear_system_from_statespace(cls, statespace, W=W, V=V, E=E, F=F, u=u,
                                              noise_inputs=noise_inputs, dt=dt, method=method,
                                              partition=partition)

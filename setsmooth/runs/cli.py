@@ -44,6 +44,7 @@ import time
 import traceback
 from pathlib import Path
 
+from ..arena.command import add_parser as add_arena_parser, run as run_arena  # argparse only: no solver
 from .environment import BLAS_ENV, blas_limit, temporary_environment
 
 ENV_VAR = "SETSMOOTH_FIGURES_DIR"
@@ -200,8 +201,6 @@ def _upload_scripts(client, figures_dir: Path) -> None:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="setsmooth", description="setsmooth command line")
     commands = parser.add_subparsers(dest="command", required=True)
-    from ..arena.command import add_parser as add_arena_parser   # argparse only: no solver loads
-
     arena = add_arena_parser(commands)
     figures = commands.add_parser(
         "figures", help="regenerate the paper figures and paper_figures/out/REPORT.md",
@@ -226,8 +225,6 @@ def main(argv: list[str] | None = None) -> int:
                               "(comma-separated, e.g. pdf,svg)")
     args = parser.parse_args(argv)
     if args.command == "arena":
-        from ..arena.command import run as run_arena
-
         return run_arena(args, arena)
     try:
         formats = parse_formats(args.format)

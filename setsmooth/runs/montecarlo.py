@@ -19,6 +19,7 @@ import numpy as np
 from tqdm import tqdm
 
 from . import slots
+from .dask_cluster import run_chunks
 
 R = TypeVar("R")
 
@@ -103,8 +104,6 @@ def run(trial: Callable[[np.random.Generator], R], n_runs: int, seed: int | np.r
     if serial or (executor is None and n_runs == 1):
         return [result for result in bar(map(call, seeds))]
     if dask_client:
-        from .dask_cluster import run_chunks
-
         n_workers = max(1, len(executor.scheduler_info().get("workers", {})))
         with slots.lent():
             return run_chunks(executor, call, seeds, bar, _chunksize(n_runs, n_workers))

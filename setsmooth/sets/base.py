@@ -21,10 +21,13 @@ import numpy as np
 
 from .._validation import as_directions, as_matrix, as_vector
 from ..solvers import GenericProgram
+from ..solvers.closest import closest_point, fast_norm
 from ..solvers.instances import cached_instance
 from .extension import ExtensionPoints, checked_cz_form, overrides, user_points, user_values
 from .hooks import AlgebraHooks
 from .relations import SetRelations
+from .vertices_2d import plot_set, polygon_area, vertices_2d
+from .vertices_3d import plot_set_3d
 
 if TYPE_CHECKING:  # pragma: no cover
     from .box import Box
@@ -287,8 +290,6 @@ class ConvexSet(AlgebraHooks, ExtensionPoints, SetRelations, ABC):
     def _closest_point(self, reference: np.ndarray, norm) -> np.ndarray | None:
         """A member closest to ``reference`` (None when empty): the fast path when the set
         flattens to a CZ and ``norm`` is 1, 2 or ∞, the generic path otherwise."""
-        from ..solvers.closest import closest_point, fast_norm
-
         cz, p = self._flat_cz, fast_norm(norm)
         if cz is None or p is None:
             return self._generic.closest_point(reference, norm)
@@ -305,14 +306,10 @@ class ConvexSet(AlgebraHooks, ExtensionPoints, SetRelations, ABC):
 
     def vertices_2d(self) -> np.ndarray:
         """Vertices of a bounded 2-D set in counter-clockwise order (see `setsmooth.sets.vertices_2d`)."""
-        from .vertices_2d import vertices_2d
-
         return vertices_2d(self)
 
     def area(self) -> float:
         """Area of a bounded 2-D set (shoelace formula on `vertices_2d`)."""
-        from .vertices_2d import polygon_area
-
         return polygon_area(self.vertices_2d())
 
     def plot(self, ax=None, dims: Sequence[int] = (0, 1), **kwargs):
@@ -324,11 +321,7 @@ class ConvexSet(AlgebraHooks, ExtensionPoints, SetRelations, ABC):
         ``fig.add_subplot(projection='3d')``). Keyword arguments go to the artist.
         """
         if len(tuple(dims)) == 3:
-            from .vertices_3d import plot_set_3d
-
             return plot_set_3d(self, ax=ax, dims=dims, **kwargs)
-        from .vertices_2d import plot_set
-
         return plot_set(self, ax=ax, dims=dims, **kwargs)
 
     def sample(self, rng: np.random.Generator, size: int = 1, *, method: str = "auto") -> np.ndarray:

@@ -11,6 +11,8 @@ from .._validation import as_vector, check_count, check_rng
 from . import _matrices as mx
 from . import rounding
 from .base import ConvexSet
+from .constrained_zonotope import ConstrainedZonotope
+from .empty import EmptySet
 
 
 class Box(ConvexSet):
@@ -133,8 +135,6 @@ class Box(ConvexSet):
         return rng.uniform(self.lo, self.hi, size=(size, self.dim))
 
     def _as_constrained_zonotope(self):
-        from .constrained_zonotope import ConstrainedZonotope
-
         free = np.isneginf(self.lo) & np.isposinf(self.hi)
         finite = np.isfinite(self.lo) & np.isfinite(self.hi)
         if not np.all(free | finite):
@@ -186,8 +186,6 @@ class Box(ConvexSet):
 
     def _closed_intersection(self, other):
         if isinstance(other, Box):
-            from .empty import EmptySet
-
             lo, hi = np.maximum(self.lo, other.lo), np.minimum(self.hi, other.hi)
             return EmptySet(self.dim) if np.any(lo > hi) else Box._trusted(lo, hi)
         return NotImplemented

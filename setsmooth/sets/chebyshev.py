@@ -20,6 +20,10 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import tolerances as tol
+from ..solvers import chebyshev_ball as h_ball
+from ..solvers.cvxpy_problems import solve_problem
+from .containment import zonotope_halfspaces
+from .vertices_2d import vertices_2d
 
 
 @dataclass(frozen=True)
@@ -49,9 +53,6 @@ def chebyshev_ball(Z) -> ChebyshevBall:
     ValueError
         When Z contains balls of every radius (a free direction).
     """
-    from ..solvers import chebyshev_ball as h_ball
-    from .containment import zonotope_halfspaces
-
     n = Z.dim
     if Z.is_empty():
         return ChebyshevBall(np.full(n, np.nan), -np.inf, True)
@@ -63,8 +64,6 @@ def chebyshev_ball(Z) -> ChebyshevBall:
         return ChebyshevBall(hull.midpoint(), float(widths[0]) / 2, True)
     H = None
     if n == 2:
-        from .vertices_2d import vertices_2d
-
         V = vertices_2d(Z)
         if len(V) < 3:  # a point or a segment: no interior
             return ChebyshevBall(V.mean(axis=0), 0.0, True)
@@ -83,8 +82,6 @@ def chebyshev_ball(Z) -> ChebyshevBall:
 
 
 def _lifted_ball(Z, widths: np.ndarray) -> ChebyshevBall:
-    from ..solvers.cvxpy_problems import solve_problem
-
     G = Z.G.toarray() if sp.issparse(Z.G) else np.asarray(Z.G)
     A = Z.A.toarray() if sp.issparse(Z.A) else np.asarray(Z.A)
     h, n = np.asarray(Z.h), Z.dim

@@ -37,6 +37,13 @@ import scipy.sparse as sp
 from .. import tolerances as tol_policy
 from .._validation import real_number
 from ..solvers import SolverError
+from ..solvers.cvxpy_problems import solve_problem
+from .base import ConvexSet, _same_dim
+from .constrained_zonotope import ConstrainedZonotope
+from .empty import EmptySet
+from .hpolytope import _as_hpolytope
+from .membership import default_margins
+from .zonotope import Zonotope
 
 #: Largest number of (n−1)-subsets of generators enumerated for the exact zonotope test; above it
 #: the sufficient CZ test is used.
@@ -107,9 +114,6 @@ def is_subset(S, T, tol: float | None = None) -> Containment:
     >>> bool(Z.is_subset(ss.Box([-2, -1], [2, 1]))), bool(ss.Box([-2, -1], [2, 1]) <= Z)
     (True, False)
     """
-    from .base import ConvexSet, _same_dim
-    from .empty import EmptySet
-
     if not isinstance(T, ConvexSet) or not isinstance(S, ConvexSet):
         raise TypeError(f"containment needs two ConvexSets, got {type(S).__name__} and {type(T).__name__}")
     _same_dim(S, T, "containment")
@@ -144,10 +148,6 @@ def is_subset(S, T, tol: float | None = None) -> Containment:
 
 def _halfspaces(T):
     """(H, k, method) of an exact H-representation of T, or None."""
-    from .constrained_zonotope import ConstrainedZonotope
-    from .hpolytope import _as_hpolytope
-    from .zonotope import Zonotope
-
     P = _as_hpolytope(T)
     if P is not None:  # HPolytope, Box (finite faces), ℝⁿ (no rows)
         return np.asarray(P.H), np.asarray(P.k), "halfspaces"
@@ -219,8 +219,6 @@ def _margins(T, tol: float | None) -> np.ndarray:
     """The ∞-norm margins of T's faces: ``tol`` given, else those of `ConvexSet.contains` at T's centre."""
     if tol is not None:
         return np.full(T.dim, tol)
-    from .membership import default_margins
-
     hull = T.interval_hull()
     with np.errstate(invalid="ignore"):
         centre = np.where(np.isfinite(hull.lo) & np.isfinite(hull.hi), (hull.lo + hull.hi) / 2, 0.0)
@@ -254,8 +252,6 @@ def _support_values(S, H: np.ndarray) -> tuple[np.ndarray, bool]:
 
 def _cz_sufficient(Z1, Z2, tol: float | None) -> Containment:
     """The linear sufficient condition of the module docstring, as one LP (CVXPY, Clarabel)."""
-    from ..solvers.cvxpy_problems import solve_problem
-
     G1, A1, G2, A2 = (M.toarray() if sp.issparse(M) else np.asarray(M) for M in (Z1.G, Z1.A, Z2.G, Z2.A))
     c1, b1, h1, c2, b2, h2 = (np.asarray(v, dtype=float) for v in (Z1.c, Z1.b, Z1.h, Z2.c, Z2.b, Z2.h))
     n, (ng1, ng2), (nc1, nc2) = Z1.dim, (Z1.ng, Z2.ng), (Z1.nc, Z2.nc)

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.spatial import ConvexHull
 
 from .. import tolerances as tol
 from ..linalg import independent_rows
@@ -184,8 +185,6 @@ def hull_geometry(points: np.ndarray) -> HullGeometry:
     if n == 1:
         lo, hi = P.min(), P.max()
         return HullGeometry(np.array([[lo], [hi]]), np.array([[[lo], [hi]]]), np.array([hi - lo]))
-    from scipy.spatial import ConvexHull
-
     hull = ConvexHull(P)
     vertices = P[hull.vertices]
     inner = vertices.mean(axis=0)

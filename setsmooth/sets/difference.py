@@ -27,6 +27,15 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import tolerances as tol_policy
+from ..solvers import SolverError
+from ..solvers.cvxpy_problems import solve_problem
+from .base import ConvexSet, _same_dim
+from .box import Box
+from .constrained_zonotope import ConstrainedZonotope
+from .empty import EmptySet
+from .hpolytope import HPolytope
+from .reals import Reals
+from .zonotope import Zonotope
 
 #: Largest number of generators of T for the exact CZ difference (2^m copies of S).
 MAX_EXACT_GENERATORS = 10
@@ -67,12 +76,6 @@ def pontryagin_difference(S, T, method: str = "exact"):
     >>> D.lo.tolist(), D.hi.tolist()
     ([-1.5, -0.5], [1.5, 0.5])
     """
-    from .base import ConvexSet, _same_dim
-    from .box import Box
-    from .empty import EmptySet
-    from .hpolytope import HPolytope
-    from .reals import Reals
-
     if not isinstance(S, ConvexSet) or not isinstance(T, ConvexSet):
         raise TypeError(f"the Pontryagin difference needs two ConvexSets, got {type(S).__name__} "
                         f"and {type(T).__name__}")
@@ -117,8 +120,6 @@ def pontryagin_difference(S, T, method: str = "exact"):
 
 def _bounded_support(T, D: np.ndarray) -> np.ndarray:
     """h_T on the rows of D: certified upper bounds where T flattens to a CZ; T must be bounded."""
-    from ..solvers import SolverError
-
     values = None
     if T._flat_cz is not None:
         try:
@@ -134,10 +135,6 @@ def _bounded_support(T, D: np.ndarray) -> np.ndarray:
 
 def _zonotope_form(T) -> tuple[np.ndarray, np.ndarray]:
     """(G_T, c_T) of a Box, Zonotope or unconstrained CZ with finite bounds."""
-    from .box import Box
-    from .constrained_zonotope import ConstrainedZonotope
-    from .zonotope import Zonotope
-
     if isinstance(T, Box):
         if not T.is_bounded:
             raise ValueError("the Pontryagin difference needs a bounded T")
@@ -163,11 +160,6 @@ def _intersect_translates(cz, points: np.ndarray):
 
 def _inner(cz, GT: np.ndarray, cT: np.ndarray):
     """Z(G, c − c_T, A, b, h − |Γ|𝟙) for the least-shrinking Γ with GΓ = G_T, AΓ = 0."""
-    from ..solvers import SolverError
-    from ..solvers.cvxpy_problems import solve_problem
-    from .constrained_zonotope import ConstrainedZonotope
-    from .empty import EmptySet
-
     G = cz.G.toarray() if sp.issparse(cz.G) else np.asarray(cz.G)
     A = cz.A.toarray() if sp.issparse(cz.A) else np.asarray(cz.A)
     h = np.asarray(cz.h)

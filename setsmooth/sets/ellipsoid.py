@@ -12,6 +12,7 @@ from .. import tolerances as tol
 from .._validation import as_matrix, as_vector, check_count, check_rng
 from . import _matrices as mx
 from .base import ConvexSet
+from .box import Box
 
 
 class Ellipsoid(ConvexSet):
@@ -96,8 +97,6 @@ class Ellipsoid(ConvexSet):
     def interval_hull(self, *, path: str = "auto", certified: bool = False):
         if self._check_path(path) == "generic" or certified:
             return super().interval_hull(path=path, certified=certified)
-        from .box import Box
-
         r = np.sqrt(np.clip(np.diag(self.Q), 0.0, None))
         return Box._trusted(self.c - r, self.c + r)
 

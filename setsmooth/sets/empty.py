@@ -7,6 +7,7 @@ import numpy as np
 
 from .._validation import check_dim
 from .base import ConvexSet
+from .constrained_zonotope import empty_constrained_zonotope
 
 
 class EmptySet(ConvexSet):
@@ -54,8 +55,6 @@ class EmptySet(ConvexSet):
         raise ValueError("cannot sample from an empty set")
 
     def _as_constrained_zonotope(self):
-        from .constrained_zonotope import empty_constrained_zonotope
-
         return empty_constrained_zonotope(self.dim)
 
     def _project(self, idx: np.ndarray) -> "EmptySet":

@@ -10,8 +10,11 @@ import scipy.linalg
 import scipy.sparse as sp
 
 from .._validation import as_matrix, as_vector
+from ..solvers import chebyshev_ball
 from . import _matrices as mx
 from .base import ConvexSet
+from .box import Box
+from .reals import Reals
 
 
 class HPolytope(ConvexSet):
@@ -66,8 +69,6 @@ class HPolytope(ConvexSet):
         return bool(np.all(self.H @ p <= self.k + np.abs(self.H) @ m))
 
     def _chebyshev_center(self) -> np.ndarray:
-        from ..solvers import chebyshev_ball
-
         center, _ = chebyshev_ball(self.H, self.k)
         return center
 
@@ -115,9 +116,6 @@ class HPolytope(ConvexSet):
 
 def _as_hpolytope(S):
     """An H-form of a Box, of ℝⁿ (no rows) or of an HPolytope; None for other representations."""
-    from .box import Box
-    from .reals import Reals
-
     if isinstance(S, HPolytope):
         return S
     if isinstance(S, Box):

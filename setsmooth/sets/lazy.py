@@ -15,6 +15,7 @@ import scipy.sparse as sp
 from .._validation import as_matrix, as_vector
 from . import _matrices as mx
 from .base import ConvexSet, _same_dim
+from .rounding import sum_up
 
 
 def _operand(S, name: str) -> ConvexSet:
@@ -32,8 +33,6 @@ def _frozen_matrix(M, name: str, rows: int | None, cols: int):
 def _sum_supports(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """h_S + h_T rounded up (so that certified values stay upper bounds), with the empty set
     absorbing: −∞ + ∞ is −∞ (the sum is empty)."""
-    from .rounding import sum_up
-
     with np.errstate(invalid="ignore"):
         out = sum_up(a, b)
     out[np.isneginf(a) | np.isneginf(b)] = -np.inf

@@ -17,9 +17,13 @@ that every program sees a set of unit size and a margin ``MEMBERSHIP_TOL`` that 
 
 from __future__ import annotations
 
+import cvxpy as cp
 import numpy as np
 
 from .. import tolerances as tol
+from ..solvers import SolverError
+from ..solvers.cvxpy_problems import solve_problem
+from .base import ConvexSet
 
 #: Smallest normalization scale: keeps (x − p)/s finite for a set that is a single point at 0.
 _TINY_SCALE = float(np.sqrt(np.finfo(float).tiny))
@@ -93,8 +97,6 @@ def settled_without_hull(S, p: np.ndarray) -> bool | None:
 
 
 def _has_closed_form_hull(S) -> bool:
-    from .base import ConvexSet
-
     return type(S).interval_hull is not ConvexSet.interval_hull
 
 
@@ -115,12 +117,6 @@ def generic_contains(S, p: np.ndarray, margin) -> bool:
     """
     if np.ndim(margin) == 0:
         return S._generic.contains(p, float(margin))
-    import cvxpy as cp
-
-    from ..solvers.cvxpy_problems import solve_problem
-
-    from ..solvers import SolverError
-
     s, _ = normalization(p, margin)
     try:
         return _normalized_distance_program(S, p, s, lambda y: p + cp.multiply(s, y), solve_problem)
@@ -137,8 +133,6 @@ def generic_contains(S, p: np.ndarray, margin) -> bool:
 
 
 def _normalized_distance_program(S, p, s, point, solve_problem, extra=None) -> bool:
-    import cvxpy as cp
-
     y, t = cp.Variable(S.dim), cp.Variable()
     x = point(y)
     # ±y ≤ t as linear rows rather than a norm: the conic form of ‖y‖∞ ≤ t stalled on sets whose

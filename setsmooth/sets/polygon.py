@@ -20,6 +20,11 @@ from .._validation import as_matrix, real_number
 from . import _matrices as mx
 from . import _polygon_geometry as geo
 from .base import ConvexSet
+from .box import Box
+from .empty import EmptySet
+from .hpolytope import HPolytope
+from .vpolytope import VPolytope
+from .zonotope import Zonotope
 
 U = geo.U
 
@@ -215,8 +220,6 @@ def _clip_all(V: np.ndarray, pad: float, rows: np.ndarray, h: np.ndarray, row_er
     normals with |fl(r_i) − r_i| ≤ row_err_i: a Polygon containing the exact cut, or `EmptySet` when
     a cut certainly leaves nothing. The rows' rounding is charged over a bound of |x| on the
     polygon before the cuts (the result lies inside it)."""
-    from .empty import EmptySet
-
     x_bound = np.abs(V).max(axis=0) + pad
     slack = row_err @ x_bound
     norms = np.hypot(rows[:, 0], rows[:, 1])
@@ -251,9 +254,6 @@ def as_polygon(S: ConvexSet) -> Polygon | None:
 
 def _half_planes(Y: ConvexSet):
     """(N, h) with Y ⊆ {y : N y ≤ h} exactly (Box, HPolytope) or up to rounding (polygons), or None."""
-    from .box import Box
-    from .hpolytope import HPolytope
-
     if isinstance(Y, HPolytope):
         return Y.H, Y.k
     if isinstance(Y, Box):
@@ -265,10 +265,6 @@ def _half_planes(Y: ConvexSet):
 
 def _as_polygon(S: ConvexSet) -> Polygon | None:
     """The polygon of a 2-D Polygon, bounded Box, Zonotope or VPolytope (sound), else None."""
-    from .box import Box
-    from .vpolytope import VPolytope
-    from .zonotope import Zonotope
-
     if isinstance(S, Polygon):
         return S
     if S.dim != 2:
@@ -284,10 +280,6 @@ def _as_polygon(S: ConvexSet) -> Polygon | None:
 
 
 def _convert(S: ConvexSet) -> Polygon | None:
-    from .box import Box
-    from .vpolytope import VPolytope
-    from .zonotope import Zonotope
-
     if isinstance(S, Box):
         if not S.is_bounded:
             return None

@@ -25,9 +25,12 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
+from scipy.spatial import QhullError
 
 from .. import tolerances as tol
 from .._validation import check_count, check_rng
+from .cz_vertices import cz_vertices, hull_geometry
+from .hpolytope import HPolytope
 
 #: The flatness check factors dense matrices up to this many generators.
 FLATNESS_CHECK_MAX_GENERATORS = 2000
@@ -93,8 +96,6 @@ def exact_geometry(S):
     ValueError
         When ``S`` is empty or flat (no interior).
     """
-    from .cz_vertices import cz_vertices, hull_geometry
-
     cz = S._flat_cz
     if cz is None or S.dim > EXACT_SAMPLING_MAX_DIM:
         return None
@@ -103,8 +104,6 @@ def exact_geometry(S):
         return None
     if V.shape[0] == 0:
         raise ValueError("cannot sample from an empty set")
-    from scipy.spatial import QhullError
-
     try:
         return hull_geometry(V)
     except ValueError as err:
@@ -198,8 +197,6 @@ def _shape(points: np.ndarray, widths: np.ndarray) -> np.ndarray:
 
 def _chord_function(S):
     """(x, d) ↦ (t_lo, t_hi) with {x + t d : t ∈ [t_lo, t_hi]} = the chord of S through x along d."""
-    from .hpolytope import HPolytope
-
     if isinstance(S, HPolytope):
         H, k = np.asarray(S.H), np.asarray(S.k)
 

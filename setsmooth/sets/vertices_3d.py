@@ -17,6 +17,7 @@ import numpy as np
 from scipy.spatial import ConvexHull
 
 from .. import tolerances as tol_policy
+from .vertices_2d import vertices_2d
 
 
 def vertices_3d(S, tol: float | None = None, max_vertices: int = 400) -> np.ndarray:
@@ -93,8 +94,6 @@ def _flat_vertices(S, points: np.ndarray, origin: np.ndarray, basis: np.ndarray)
     if basis.shape[0] == 1:
         t = (points - origin) @ basis[0]
         return points[[np.argmin(t), np.argmax(t)]]
-    from .vertices_2d import vertices_2d
-
     plane = basis @ (S - origin)  # the set in coordinates of its plane
     return vertices_2d(plane) @ basis + origin
 

@@ -21,7 +21,10 @@ import scipy.sparse as sp
 
 from .._validation import as_matrix
 from . import _matrices as mx
+from . import rounding
 from .base import ConvexSet
+from .box import Box
+from .constrained_zonotope import ConstrainedZonotope
 
 
 class VPolytope(ConvexSet):
@@ -73,8 +76,6 @@ class VPolytope(ConvexSet):
         return [cp.sum(lam) == 1, x - m == (self.points - m).T @ lam]
 
     def _as_constrained_zonotope(self):
-        from .constrained_zonotope import ConstrainedZonotope
-
         # Points relative to their mean m: x = m + V₀ᵀλ with V₀ = V − m, so the generators have the
         # size of the polytope rather than of its position (the fast path's accuracy is relative
         # to them). Σλ = 1 makes m + V₀ᵀλ = Vᵀλ; c = m + V₀ᵀ𝟙/2 = m since Σ_i V₀_i = 0 up to rounding.
@@ -92,8 +93,6 @@ class VPolytope(ConvexSet):
         best = np.argmax(scores, axis=1)
         values = scores[np.arange(D.shape[0]), best]
         if certified:  # every point's dot product bounded above, then the largest
-            from . import rounding
-
             values = rounding.upper_bound(scores, np.abs(D) @ np.abs(self.points).T,
                                           self.dim).max(axis=1)
         return values, self.points[best].copy()
@@ -101,8 +100,6 @@ class VPolytope(ConvexSet):
     def interval_hull(self, *, path: str = "auto", certified: bool | None = None):
         if self._check_path(path) == "generic":
             return super().interval_hull(path=path, certified=certified)
-        from .box import Box
-
         return Box._trusted(self.points.min(axis=0), self.points.max(axis=0))
 
     def _is_empty(self) -> bool:

@@ -13,6 +13,8 @@ from .._validation import as_matrix, as_vector
 from . import _matrices as mx
 from . import rounding
 from .base import ConvexSet
+from .box import Box
+from .constrained_zonotope import ConstrainedZonotope
 
 
 class Zonotope(ConvexSet):
@@ -106,8 +108,6 @@ class Zonotope(ConvexSet):
         zonotope): r and the pad rounded up and the bounds rounded outward."""
         if self._check_path(path) == "generic":
             return super().interval_hull(path=path, certified=certified)
-        from .box import Box
-
         r = np.abs(self.G).sum(axis=1)
         if not certified and self.pad is None:
             return Box._trusted(self.c - r, self.c + r)
@@ -120,8 +120,6 @@ class Zonotope(ConvexSet):
         return False
 
     def _as_constrained_zonotope(self):
-        from .constrained_zonotope import ConstrainedZonotope
-
         return ConstrainedZonotope._trusted(self.G, self.c, np.zeros((0, self.ng)), np.zeros(0),
                                             np.ones(self.ng), pad=self._pad_box,
                                             pad_generators=self._pad_generators)
@@ -167,8 +165,6 @@ class Zonotope(ConvexSet):
 
 
 def _as_zonotope(S):
-    from .box import Box
-
     if isinstance(S, Zonotope):
         return S
     if isinstance(S, Box) and S.is_bounded:

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.linalg import LinAlgError, cholesky_banded
 
 from ..floating import gamma
 from ..solvers.certify import free_factor_bound
@@ -53,8 +54,6 @@ def gram_lower_bound(AF: sp.spmatrix) -> float | None:
         A positive lower bound, or None when the Gram matrix is not banded (half-bandwidth above
         `BANDED_MAX_BANDWIDTH`), not positive definite to working accuracy, or not proven so.
     """
-    from scipy.linalg import LinAlgError, cholesky_banded
-
     AF = sp.csc_matrix(AF)
     N = AF.shape[1]
     if N == 0:

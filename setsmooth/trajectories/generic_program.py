@@ -20,11 +20,16 @@ one compiled problem.
 
 from __future__ import annotations
 
+import cvxpy as cp
 import numpy as np
 import scipy.sparse as sp
 
 from ..sets.base import ConvexSet
+from ..sets.lazy import LinearMap
 from ..solvers.clarabel_lp import SolverError
+from ..solvers.cvxpy_problems import conic_form, solve_problem
+from ..solvers.generic import GenericProgram
+from ..solvers.instances import cached_instance
 
 __all__ = ["TrajectorySet", "FilteredState", "filtered_ranges"]
 
@@ -76,8 +81,6 @@ class TrajectorySet(ConvexSet):
         when relaxed[l − start] = 0 and is dropped when it is 1 (a free slack enters it): one compiled
         program then serves every filtering time (`FilteredState`).
         """
-        import cvxpy as cp
-
         sys, n = self.system, self.n
         states = [x[j * n:(j + 1) * n] for j in range(last + 1)]
         cons = list(self.prior.constraints(states[0]))
@@ -98,9 +101,6 @@ class TrajectorySet(ConvexSet):
 
     @property
     def _generic(self):
-        from ..solvers.generic import GenericProgram
-        from ..solvers.instances import cached_instance
-
         def build() -> GenericProgram:
             program = GenericProgram(self)
             if self._states_bounded():
@@ -127,8 +127,6 @@ class TrajectorySet(ConvexSet):
         return True
 
     def _project(self, idx: np.ndarray) -> ConvexSet:
-        from ..sets.lazy import LinearMap
-
         M = sp.csr_matrix((np.ones(idx.size), (np.arange(idx.size), idx)), shape=(idx.size, self.dim))
         return LinearMap(M, self)
 
@@ -159,16 +157,12 @@ class FilteredState(ConvexSet):
         return self.k - self.trajectories.start
 
     def constraints(self, x):
-        import cvxpy as cp
-
         n, j = self.dim, self._index
         z = cp.Variable(n * (j + 1))
         return [x == z[j * n:]] + self.trajectories._stacked_constraints(z, j)
 
     @property
     def _program(self) -> "_FilterProgram":
-        from ..solvers.instances import cached_instance
-
         traj = self.trajectories
         return cached_instance(traj, "filter program", lambda: _FilterProgram(traj))
 
@@ -194,8 +188,6 @@ class _FilterProgram:
     """
 
     def __init__(self, traj: TrajectorySet):
-        import cvxpy as cp
-
         self.n, self.steps = traj.n, traj.steps
         self.x = cp.Variable(traj.dim)
         self.d = cp.Parameter(traj.dim)
@@ -210,16 +202,12 @@ class _FilterProgram:
         self.d.value = full
 
     def _solve(self, j: int, d: np.ndarray, context: str) -> str:
-        from ..solvers.cvxpy_problems import solve_problem
-
         self._set(j, d)
         return solve_problem(self.problem, context, "support")
 
     def feasible(self, j: int) -> bool:
         """Whether the posterior at index j is non-empty (the elastic emptiness program of
         `solvers.conic`)."""
-        from ..solvers.cvxpy_problems import conic_form
-
         self._set(j, np.zeros(self.n))
         form = conic_form(self.problem, "deciding emptiness of a filtered range", "emptiness")[0]
         return not form.is_empty()
