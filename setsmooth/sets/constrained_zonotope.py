@@ -24,6 +24,7 @@ import scipy.sparse as sp
 
 from .._validation import as_matrix, as_vector, real_array
 from ..solvers import CZProgram, FactorConstraints, SolverError, SupportSolution
+from ..solvers.certify import _exactly_cancelled
 from . import _matrices as mx
 from . import rounding
 from .base import ConvexSet
@@ -261,8 +262,6 @@ class ConstrainedZonotope(ConvexSet):
         underflowed, times h_j) and the pad, charged. A free factor makes the exact value +∞
         unless its (Gᵀd)_j is exactly zero (checked in rationals where the computed one is zero but
         not its rounding bound) and no rounded free column (``pad_free``) is seen."""
-        from ..solvers.certify import _exactly_cancelled
-
         n = self.dim
         absG = abs(self.G) if sp.issparse(self.G) else np.abs(self.G)
         finite = np.isfinite(self.h)

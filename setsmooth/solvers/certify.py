@@ -20,8 +20,11 @@ stand between this and a number that is an upper bound in floating point:
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 import numpy as np
 import scipy.sparse as sp
+from scipy.sparse.linalg import lsqr, splu
 
 from ..floating import ETA, U, gamma
 from .clarabel_lp import SolverError
@@ -106,8 +109,6 @@ def free_factor_bound(A: sp.csc_matrix, b: np.ndarray, h: np.ndarray,
 
 def normal_solver(AF: sp.csc_matrix):
     """A solver of (A_FᵀA_F) y = r by sparse LU, or None when A_F is rank deficient (or empty)."""
-    from scipy.sparse.linalg import splu
-
     if AF.shape[1] == 0 or AF.shape[0] < AF.shape[1]:
         return None
     try:
@@ -144,8 +145,6 @@ def correct_multipliers(AF: sp.csc_matrix, gF: np.ndarray, lam: np.ndarray,
             finite = np.all(np.isfinite(y), axis=0)
             delta = np.asarray(AFc @ np.where(finite, y, 0.0)).T
         else:
-            from scipy.sparse.linalg import lsqr
-
             finite = np.ones(rows.size, dtype=bool)
             delta = np.array([lsqr(AFt, res[i], atol=1e-15, btol=1e-15,
                                    iter_lim=10 * AF.shape[1] + 50)[0] for i in rows])
@@ -310,8 +309,6 @@ EXACT_CHECK_MAX = 200
 
 def _exactly_cancelled(d: np.ndarray, G, A: sp.csc_matrix, lam: np.ndarray, free: np.ndarray) -> bool:
     """Whether (Gᵀd − Aᵀλ)_j = 0 exactly for every free j and every row of d, in rational arithmetic."""
-    from fractions import Fraction
-
     if free.size > EXACT_CHECK_MAX:
         return False
     Gc = sp.csc_matrix(G)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.optimize import linprog
 
 from .. import tolerances as tol
 from .backends import box_rows
@@ -121,8 +122,6 @@ def _distance(program_rows: tuple, margin: float, rho: float | None) -> tuple[st
     if status in ("optimal", "infeasible") or rho is None:
         return status, t
     # The simplex method settles what the interior-point method could not.
-    from scipy.optimize import linprog
-
     res = linprog(q, A_ub=rows[neq:], b_ub=r[neq:], A_eq=rows[:neq] if neq else None,
                   b_eq=r[:neq] if neq else None, bounds=[(None, None)] * (nvar + 1), method="highs")
     # SciPy reports HiGHS's refusal of the data (entries beyond 1e15: "Model error") with the

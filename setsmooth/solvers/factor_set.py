@@ -22,6 +22,7 @@ import scipy.sparse as sp
 
 from .. import tolerances as tol
 from .clarabel_lp import _csc
+from .certify import Operators, free_factor_bound
 from .maximization import Maximized, Search
 from .phase_one import decide_empty, relaxed_point
 from .policy import Attempt, policy
@@ -150,8 +151,6 @@ class FactorConstraints:
     def free_bound(self) -> float | None:
         """β ≥ ‖ξ_F‖∞ on the free factors (`certify.free_factor_bound`; cached), or None."""
         if self._free_bound is None:
-            from .certify import free_factor_bound
-
             self._free_bound = (free_factor_bound(self.A, self.b, self.h, slack=self.slack,
                                                   slack_free=self.slack_free),)
         return self._free_bound[0]
@@ -171,8 +170,6 @@ class FactorConstraints:
         factor set when no factor is free)."""
         part = self.__dict__.get("_certificate_part")
         if part is None:
-            from .certify import Operators
-
             part = self.__dict__["_certificate_part"] = Operators.factor_part(self.A)
         return part
 

@@ -16,6 +16,9 @@ import scipy.linalg
 import scipy.sparse as sp
 import scipy.sparse.linalg
 
+from .certify import correct_multipliers, normal_solver
+from .instances import cached_instance
+
 __all__ = ["nominal_free_point", "project_free", "NOMINAL_DENSE_MAX"]
 
 #: The free factors' nominal point (`nominal_free_point`) is a dense least-squares solve up to this
@@ -62,9 +65,6 @@ def project_free(pre, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     from λ = 0; one factorization serves every direction, where lsqr per direction dominated a
     smoother's time (docs/numerical_core.md).
     """
-    from .certify import correct_multipliers, normal_solver
-    from .instances import cached_instance
-
     free = ~pre.bounded
     AF = pre.free_columns
     solve_normal = cached_instance(pre, "normal equations of the free factors",

@@ -24,6 +24,7 @@ import scipy.sparse as sp
 from .. import tolerances as tol
 from .highs import (_DUAL, _PRIMAL, SIMPLEX_TOLERANCES, factor_model, rung_caps, set_rung,
                     settled_point, verdict)
+from .instances import cached_instance
 
 __all__ = ["WarmSimplex", "simplex", "checked_simplex", "WARM_MODEL_KEY"]
 
@@ -163,8 +164,6 @@ def checked_simplex(pre, q: np.ndarray, batch: object
                     ) -> tuple[str, np.ndarray, np.ndarray, float]:
     """`simplex` and the answer's `Presolved.checked_gap` (inf when it is not an optimum or fails
     the check), so that the caller need not check it again."""
-    from .instances import cached_instance
-
     model = cached_instance(pre, WARM_MODEL_KEY, lambda: WarmSimplex(pre.A, pre.b, pre.bounded))
     answer = model.minimize(q, batch)
     gap = _gap_or_inf(pre, q, answer)

@@ -44,6 +44,7 @@ from ..sets.base import ConvexSet
 from ..sets import rounding
 from ..sets.constrained_zonotope import ConstrainedZonotope
 from ..solvers.factor_set import FactorConstraints
+from .free_factor_bound import banded_free_factor_bound
 from .generic_program import TrajectorySet
 
 __all__ = ["trajectory_set", "filtering_map", "TrajectorySet"]
@@ -328,8 +329,6 @@ class TrajectoryFactors(FactorConstraints):
 
     def free_bound(self) -> float | None:
         if self._free_bound is None:
-            from .free_factor_bound import banded_free_factor_bound
-
             bound = banded_free_factor_bound(self.A, self.b, self.h, self.slack, self.slack_free)
             if bound is None:
                 return super().free_bound()
