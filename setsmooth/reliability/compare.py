@@ -129,10 +129,15 @@ def _bounds(hull, n: int) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(hull.lo, float), np.asarray(hull.hi, float)
 
 
-def score(outcome: Outcome, xs: np.ndarray, exact: tuple[np.ndarray, np.ndarray], sigma: float,
-          plain: list, certified: list) -> None:
-    """Fill the counts of ``outcome`` from hull bounds (lists over k of (lo, hi)) and the oracle's."""
-    lo_x, hi_x = exact
+def score(outcome: Outcome, xs: np.ndarray, exact: tuple[np.ndarray, np.ndarray] | None,
+          sigma: float, plain: list, certified: list) -> None:
+    """Fill the counts of ``outcome`` from hull bounds (lists over k of (lo, hi)) and the oracle's.
+
+    Without an oracle (``exact`` None) only ``outside`` is counted, in units of the certified hull's
+    own width plus σ."""
+    oracle = exact is not None
+    lo_x, hi_x = exact if oracle else (np.array([h[0] for h in certified]),
+                                       np.array([h[1] for h in certified]))
     unit = (hi_x - lo_x) + sigma
     for which, hulls in (("plain", plain), ("certified", certified)):
         lo = np.array([h[0] for h in hulls])
@@ -147,6 +152,8 @@ def score(outcome: Outcome, xs: np.ndarray, exact: tuple[np.ndarray, np.ndarray]
             outcome.outside += int(bad.sum())
             if bad.any():
                 outcome.worst_outside = max(outcome.worst_outside, float(np.max(excl[bad] / u[bad])))
+            if not oracle:
+                continue
             err = np.maximum(np.abs(lo - lo_x[:K]), np.abs(hi - hi_x[:K]))
             err = np.where(np.isnan(err), np.inf, err)
             bad = err > REL_TOL * u + fp
@@ -172,17 +179,6 @@ def score(outcome: Outcome, xs: np.ndarray, exact: tuple[np.ndarray, np.ndarray]
                 if bad.any():
                     outcome.worst_not_enclosing = max(outcome.worst_not_enclosing,
                                                       float(np.max(inside[bad] / u[bad])))
-
-
-def score_truth(outcome: Outcome, xs: np.ndarray, sigma: float, plain: list, certified: list) -> None:
-    """`score` without an oracle: only ``outside`` (the truth against every hull), in units of the
-    certified hull's own width plus σ."""
-    lo = np.array([h[0] for h in certified])
-    hi = np.array([h[1] for h in certified])
-    score(outcome, xs, (lo, hi), sigma, plain, certified)
-    outcome.off = outcome.off_width = outcome.not_enclosing = outcome.thin = outcome.loose_width = 0
-    outcome.worst_off = outcome.worst_off_width = outcome.worst_not_enclosing = 0.0
-    outcome.worst_loose_width = 0.0
 
 
 def confirm_by_witnesses(oracle: TrajectoryOracle, upto_k: bool,
@@ -295,10 +291,8 @@ def compare_case(case: Case, exact: dict | None = None, estimators=ESTIMATORS) -
             outcome.message = str(exc)[:200]
         outcome.seconds = time.perf_counter() - t0
         key = "filtered" if estimator == "filter" else "smoothed"
-        if outcome.error is None and key not in exact:
-            score_truth(outcome, case.xs, sigma, plain, certified)
-        elif outcome.error is None:
-            score(outcome, case.xs, exact[key], sigma, plain, certified)
+        if outcome.error is None:
+            score(outcome, case.xs, exact.get(key), sigma, plain, certified)
             if outcome.not_enclosing or outcome.off or outcome.off_width or outcome.loose_width:
                 if oracle is None:
                     oracle = TrajectoryOracle(case.system, case.X0, case.ys)
