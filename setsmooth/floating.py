@@ -1,5 +1,7 @@
-"""The error constants of binary64 arithmetic, shared by the set algebra's rounding charges
-(`setsmooth.sets.rounding`) and the certified support values (`setsmooth.solvers.certify`).
+"""The error constants of binary64 arithmetic, the one definition of them in setsmooth: shared by the
+set algebra's rounding charges (`setsmooth.sets.rounding`), the certified support values
+(`setsmooth.solvers.certify`), the polygons' geometry, order reduction's rounding bounds and the sound
+discretization of continuous-time noise (`setsmooth.models.discretization`).
 
 Higham, *Accuracy and Stability of Numerical Algorithms* (2nd ed., §2.2, §3.1): a computed sum of n
 products is off by at most γ_n times the sum of their magnitudes, plus n·η for products that
@@ -13,7 +15,7 @@ import numpy as np
 __all__ = ["U", "ETA", "gamma"]
 
 #: The unit roundoff u = 2⁻⁵³.
-U = np.finfo(float).eps / 2
+U = float(np.finfo(float).eps) / 2
 
 #: η = 2⁻¹⁰⁷⁴, the smallest subnormal: the absolute error of a product that underflows.
 ETA = float(np.nextafter(0.0, 1.0))

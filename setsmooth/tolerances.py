@@ -72,15 +72,6 @@ PARALLEL_TOL = 1e-10
 #: resolve angles below ~1e-8).
 PARALLEL_COS_TOL = 1e-6
 
-#: Unit roundoff of IEEE double precision (2⁻⁵³): the rigorous rounding bounds of order reduction.
-UNIT_ROUNDOFF = float(np.finfo(float).eps) / 2
-
-
-def gamma(k: int) -> float:
-    """Higham's γ_k = k·u / (1 − k·u): relative error bound of a k-term floating-point dot product."""
-    ku = k * UNIT_ROUNDOFF
-    return ku / (1.0 - ku)
-
 #: Margin of the spectral verdicts of `setsmooth.analysis`: (A, C) is detectable when ρ(Ã_ō) < 1 − this.
 SPECTRAL_TOL = 1e-9
 

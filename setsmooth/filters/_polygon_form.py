@@ -14,7 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sets._polygon_geometry import SQRT2_UP, TINY, U, up
+from ..floating import U
+from ..sets._polygon_geometry import SQRT2_UP, TINY, up
 from ..sets.algebra import linear_map, minkowski_sum, translate
 from ..sets.base import ConvexSet
 from ..sets.box import Box

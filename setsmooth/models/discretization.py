@@ -27,6 +27,7 @@ import numpy as np
 import scipy.linalg
 
 from .. import tolerances as tol
+from ..floating import gamma
 from .._validation import as_matrix, real_number
 from ..sets.algebra import linear_map, minkowski_sum
 from ..sets.base import ConvexSet
@@ -135,7 +136,7 @@ def bounded_noise_set(A: Any, B: Any, W: ConvexSet, dt: float, *,
     for j in range(1, N):
         product = product @ step
         eta = max(eta, 2.0 * np.abs(product - exps[j]).max() / np.abs(exps[j]).max())
-    eta += tol.gamma(n + B.shape[1] + 2)  # rounding of δ e^{Aτ_j} B and of its image of W
+    eta += gamma(n + B.shape[1] + 2)  # rounding of δ e^{Aτ_j} B and of its image of W
 
     # S ≥ sup_{|s|≤δ/2} ‖e^{As}‖_∞ from a grid of step h with a·h ≤ 1/10: e^{As} = e^{A s_m} e^{A(s−s_m)}.
     a = np.abs(A).sum(axis=1).max()  # ‖A‖_∞
@@ -143,7 +144,7 @@ def bounded_noise_set(A: Any, B: Any, W: ConvexSet, dt: float, *,
     grid = -delta / 2 + delta * np.arange(M) / M
     S = max(np.abs(scipy.linalg.expm(A * s)).sum(axis=1).max() for s in grid)
     S *= (1.0 + eta * n) * np.exp(a * delta / M)
-    r_AB = _max_abs_image(A @ B, W) * (1.0 + tol.gamma(n))
+    r_AB = _max_abs_image(A @ B, W) * (1.0 + gamma(n))
     row_sums = np.zeros(n)  # Σ_j |e^{Aτ_j}| 1, as computed
     err_sums = 0.0          # Σ_j of a bound on each row sum of |exact − computed e^{Aτ_j}|
     for E in exps:
@@ -154,7 +155,7 @@ def bounded_noise_set(A: Any, B: Any, W: ConvexSet, dt: float, *,
     # computed generators δ e^{A(j+½)δ} B applied to a mean noise w̄_j (‖B w̄_j‖_∞ ≤ r).
     rho = (row_sums + err_sums) * (delta * delta / 4.0) * S * r_AB + err_sums * delta * r
 
-    rho *= 1.0 + tol.gamma(N + 4)  # the sums above, rounded
+    rho *= 1.0 + gamma(N + 4)  # the sums above, rounded
 
     R = None
     for E in exps:

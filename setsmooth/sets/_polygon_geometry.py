@@ -19,7 +19,8 @@ import math
 
 import numpy as np
 
-U = 2.0 ** -53
+from ..floating import U
+
 #: Absolute slack for underflow in products of tiny numbers.
 TINY = 1e-290
 #: Multiple of u bounding the error of a 2-term orientation determinant or dot product.

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ... import tolerances as tol
+from ...floating import gamma
 from ..base import ConvexSet
 from ..box import Box
 from ..constrained_zonotope import ConstrainedZonotope
@@ -122,7 +122,7 @@ def abs_sum_upper(M: np.ndarray, axis: int = 1) -> np.ndarray:
     k = M.shape[axis]
     s = np.abs(M).sum(axis=axis)
     # An exactly zero sum (every term zero) stays zero: no rounding happened.
-    return np.where(s == 0.0, 0.0, round_up(s * (1.0 + 2.0 * tol.gamma(k + 1))))
+    return np.where(s == 0.0, 0.0, round_up(s * (1.0 + 2.0 * gamma(k + 1))))
 
 
 def scaled_abs_upper(M: np.ndarray, h: np.ndarray) -> np.ndarray:
@@ -140,4 +140,4 @@ def certified_margin(terms: int, scale) -> np.ndarray:
     values); 8·γ_terms·scale bounds its rounding with a margin for the products forming the terms.
     Used by `Rescale('exact')` and `IntervalHull`.
     """
-    return 8.0 * tol.gamma(terms) * np.asarray(scale, dtype=float)
+    return 8.0 * gamma(terms) * np.asarray(scale, dtype=float)

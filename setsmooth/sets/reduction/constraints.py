@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ... import tolerances as tol
+from ...floating import gamma
 from ..box import Box
 from ..constrained_zonotope import ConstrainedZonotope
 from ..empty import EmptySet
@@ -88,7 +88,7 @@ def eliminate_factor(d: CZData, j: int) -> CZData:
     # A row dependent on row i cancels to rounding noise (~1e-16 entries), which propagation would
     # take literally once the row is normalized: an entry within the rounding bound of its own
     # computation (γ_3: the division, the product, the subtraction) is zero up to roundoff.
-    g = 2.0 * tol.gamma(3)
+    g = 2.0 * gamma(3)
     A[np.abs(A) <= g * (np.abs(d.A) + np.abs(update_A))] = 0.0
     b[np.abs(b) <= g * (np.abs(d.b) + np.abs(update_b))] = 0.0
     keep_rows = np.arange(d.nc) != i

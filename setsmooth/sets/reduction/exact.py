@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ... import tolerances as tol
+from ...floating import gamma
 from ...linalg import independent_rows
 from ..box import Box
 from ..constrained_zonotope import ConstrainedZonotope
@@ -155,7 +156,7 @@ def merge_group(L: np.ndarray, h: np.ndarray) -> tuple[np.ndarray, float, np.nda
     v = L[:, 0]
     t = (v @ L) / (v @ v)
     E = L - np.outer(v, t)
-    rounding = tol.gamma(2 * L.shape[0] + 4) * np.abs(L).max(axis=0)
+    rounding = gamma(2 * L.shape[0] + 4) * np.abs(L).max(axis=0)
     E = np.where(np.abs(E) <= rounding, 0.0, E)  # rounding of t_k v, not a leftover
     free = np.isinf(h)
     if free.any():
