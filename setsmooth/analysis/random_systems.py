@@ -57,7 +57,7 @@ class RandomSystem:
     def linear_system(self, W: Any = None, V: Any = None):
         """The `LinearSystem` x⁺ = Ax + Bw, y = Cx + v, with W = [−1, 1]^p, V = [−1, 1]^m by default."""
         from ..sets import Box
-        from ..models.systems import LinearSystem
+        from ..models.linear_system import LinearSystem
         p, m = self.B.shape[1], self.C.shape[0]
         W = Box(-np.ones(p), np.ones(p)) if W is None else W
         V = Box(-np.ones(m), np.ones(m)) if V is None else V

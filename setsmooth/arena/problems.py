@@ -26,7 +26,9 @@ import numpy as np
 
 from .._validation import as_generator
 from ..analysis.random_systems import random_observable_system
-from ..models.systems import LinearSystem, NonlinearSystem, simulate
+from ..models.linear_system import LinearSystem
+from ..models.nonlinear_system import NonlinearSystem
+from ..models.simulation import simulate
 from ..papers.rethinking_examples import rethinking_example_30, rethinking_example_30_x0
 from ..papers.smoothing_examples import (SMOOTHING_33_X0, eta_33, eta_33_inverse, measurement_interval_34,
                                          smoothing_example_31, smoothing_example_31_x0, smoothing_example_33)

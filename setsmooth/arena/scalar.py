@@ -20,7 +20,8 @@ from typing import Any
 
 import numpy as np
 
-from ..models.systems import LinearSystem, NonlinearSystem
+from ..models.linear_system import LinearSystem
+from ..models.nonlinear_system import NonlinearSystem
 from ..sets.base import ConvexSet
 
 __all__ = ["MonotoneScalarSystem", "MonotoneScalarForm", "monotone_scalar_form"]

@@ -118,7 +118,7 @@ def kalman_filter(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) -
         Provides ``n`` (state dimension) and methods ``A_at(k)`` (n×n), ``E_at(k)`` (n×p, the
         process-noise matrix), ``C_at(k)`` (m×n), ``F_at(k)`` (m×q, the measurement-noise matrix)
         and ``input_term(k)`` (the known term B_k u_k of x_{k+1}, length n), as
-        `setsmooth.models.systems.LinearSystem` does (whose feedthrough D_k u_k is subtracted from
+        `setsmooth.models.linear_system.LinearSystem` does (whose feedthrough D_k u_k is subtracted from
         the measurements first).
     ys : array_like, shape (T+1, m)
         Measurements y_0..y_T (a 1-D array is accepted when m = 1).

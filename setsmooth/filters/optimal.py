@@ -44,7 +44,7 @@ from ..sets.box import Box
 from ..sets.constrained_zonotope import ConstrainedZonotope
 from ..sets.empty import EmptySet
 from ..sets.reals import Reals
-from ..models.systems import LinearSystem
+from ..models.linear_system import LinearSystem
 from .classical import _first_empty
 from .steps import _check_state_set
 

@@ -1,8 +1,8 @@
 """A `LinearSystem` from a python-control `StateSpace`: its inputs split into known inputs and noises.
 
-The work behind `LinearSystem.from_statespace` (whose docstring states the modes and their
-assumptions): validate the model and the index split into known inputs (python-control's B and D)
-and noise inputs (E), and sample a continuous model soundly.
+`from_statespace`, which `LinearSystem` binds as its class method `LinearSystem.from_statespace`
+(its docstring states the modes and their assumptions): validate the model and the index split into
+known inputs (python-control's B and D) and noise inputs (E), and sample a continuous model soundly.
 """
 
 from __future__ import annotations
@@ -18,10 +18,87 @@ from ..sets.base import ConvexSet
 _METHODS = ("zoh", "bounded")
 
 
-def linear_system_from_statespace(cls, statespace, *, W: ConvexSet, V: ConvexSet, E: Any, F: Any,
-                                  u: Any, noise_inputs: Any, dt: Any, method: str | None,
-                                  partition: int):
-    """The implementation of `LinearSystem.from_statespace` (see there)."""
+def from_statespace(cls, statespace, *, W: ConvexSet, V: ConvexSet, E: Any = None, F: Any = None,
+                    u: Any = None, noise_inputs: Any = None, dt: float | None = None,
+                    method: str | None = None, partition: int = 32):
+    """Build from a `control.StateSpace`: its B and D are the known-input matrix and feedthrough.
+
+    The plant is ẋ = A x + B u + E w (continuous) or x⁺ = A x + B u + E w (discrete),
+    y = C x + D u + F v, with w ∈ W, v ∈ V. ``statespace.B`` and ``statespace.D`` act on the
+    known input u as in python-control, except the columns that ``noise_inputs`` selects: those
+    inputs are the noise w, and their columns of ``statespace.B`` are E (then ``E`` is not given).
+
+    A continuous model is sampled with period ``dt``; each ``method`` states what it assumes of
+    the noise and gives an enclosure exactly under that assumption:
+
+    * ``'bounded'`` (the default): w(t) ∈ W at every instant, any measurable signal (it may switch
+      sign inside a sample interval). The system is x_{k+1} = e^{AΔ} x_k + B_d u_k + r_k with
+      r_k in a sound outer bound of ∫_0^Δ e^{Aτ} E W dτ (`setsmooth.models.discretization.
+      bounded_noise_set`: a zonotope from ``partition`` pieces of the interval plus a certified
+      remainder box). Its E is the identity and its W that n-dimensional set.
+    * ``'zoh'``: w is constant on every sample interval, equal to w_k ∈ W there (a noise that
+      is itself sampled and held). E is ∫_0^Δ e^{Aτ} dτ E and W is unchanged. A noise that
+      varies inside an interval can leave this model: the filter may then lose the true state.
+
+    Known inputs are held constant over each sample interval (zero-order hold, a digital
+    controller's convention, python-control's ``sample_system`` default) in both modes. 'foh'
+    and 'tustin' are not offered: Tustin's rule is exact for no class of signals, so its sets
+    would not enclose the increments, and a first-order-hold noise stays in W at every instant,
+    which 'bounded' covers.
+
+    Parameters
+    ----------
+    statespace : control.StateSpace
+        Continuous or discrete. Its feedthrough D from a noise input must be zero (it would
+        couple w and v, which the set-membership model treats as unrelated); from a known input
+        it is the system's D.
+    W : ConvexSet, keyword-only
+        Range of the process noise w; bounded for 'bounded'.
+    V : ConvexSet, keyword-only
+        Range of the measurement noise v.
+    E : array_like, optional, keyword-only
+        Process-noise matrix (n × W.dim) of the plant as given (continuous or discrete); the
+        identity by default (W.dim = n). Not with ``noise_inputs``, which selects it from B.
+    F : array_like, optional, keyword-only
+        Measurement-noise matrix (m × V.dim); the identity by default (V.dim = m).
+    u : array_like of shape (T+1, n_u), or callable k -> (n_u,), optional, keyword-only
+        Samples u_0..u_T of the known inputs, time first (required when the plant has known
+        inputs); as in `LinearSystem`, T rows suffice without a feedthrough.
+    noise_inputs : sequence of int, optional, keyword-only
+        Indices of the statespace inputs that are noises w; the others are known inputs. None
+        (default): every input is a known input.
+    dt : float, optional, keyword-only
+        Sampling time Δ: required for a continuous model; for a discrete one it must agree with
+        ``statespace.dt`` (or supply it when that is ``True``, unspecified).
+    method : {'bounded', 'zoh'}, optional, keyword-only
+        Noise model of a continuous plant (above); must be None for a discrete one.
+    partition : int, keyword-only
+        Pieces of [0, Δ] for 'bounded': more is tighter, with more generators (the noise set has
+        ``partition`` copies of W's generators plus n; 32 by default).
+
+    Returns
+    -------
+    LinearSystem
+        With ``dt`` set to the sampling time.
+
+    Raises
+    ------
+    TypeError
+        When ``statespace`` is not a `control.StateSpace`, or W/V not `ConvexSet`s.
+    ValueError
+        For a feedthrough from a noise input, a missing or disagreeing ``dt``, an unknown
+        ``method`` (or one given with a discrete model), bad ``noise_inputs`` (or given with
+        ``E``), ``W`` of the wrong dimension, missing or superfluous ``u``.
+
+    Examples
+    --------
+    >>> import control, numpy as np, setsmooth as ss
+    >>> plant = control.ss([[0.0, 1.0], [-4.0, -0.4]], [[0.0, 0.0], [1.0, 1.0]], [[1.0, 0.0]], 0)
+    >>> system = ss.LinearSystem.from_statespace(plant, W=ss.Box([-0.5], [0.5]), V=ss.Box([-0.1], [0.1]),
+    ...                                          noise_inputs=[1], u=np.ones((21, 1)), dt=0.1)
+    >>> system.n, system.n_u, system.W.dim, system.dt, system.has_input
+    (2, 1, 2, 0.1, True)
+    """
     import control
 
     if not isinstance(statespace, control.StateSpace):

@@ -26,7 +26,7 @@ import numpy as np
 
 from ...sets.empty import EmptySet
 from ...sets.reduction import EliminateConstraints, Girard, Rescale
-from ...models.systems import LinearSystem
+from ...models.linear_system import LinearSystem
 from ..classical import classical_filter
 from ..consistency import Inconsistency, check_on_inconsistent, outer_inconsistency, report_inconsistency
 from .estimates import POINT_ESTIMATES, summarize
