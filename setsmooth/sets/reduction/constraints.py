@@ -76,13 +76,16 @@ def eliminate_factor(d: CZData, j: int) -> CZData:
     """
     col = d.A[:, j]
     with np.errstate(invalid="ignore", divide="ignore"):
-        rel = np.nan_to_num(np.abs(col) / np.abs(d.A).max(axis=1))
-    i = int(np.argmax(rel))
+        rel = np.abs(col) / np.abs(d.A).max(axis=1)
+    # |a_ij| never exceeds its row's largest entry: the quotient is finite or 0/0 (a zero row).
+    rel[np.isnan(rel)] = 0.0
+    i = int(rel.argmax())
     a = d.A[i, j]
     row_A, row_b = d.A[i] / a, d.b[i] / a
-    G = d.G - np.outer(d.G[:, j], row_A)
+    # Rank-one updates as broadcast products (np.outer's, without its argument handling).
+    G = d.G - d.G[:, j, None] * row_A
     c = d.c + d.G[:, j] * row_b
-    update_A, update_b = np.outer(col, row_A), col * row_b
+    update_A, update_b = col[:, None] * row_A, col * row_b
     A = d.A - update_A
     b = d.b - update_b
     # A row dependent on row i cancels to rounding noise (~1e-16 entries), which propagation would
@@ -102,8 +105,12 @@ def eliminate_factor(d: CZData, j: int) -> CZData:
 def hausdorff_heuristic(d: CZData, r: np.ndarray) -> np.ndarray:
     """Scott (A.8): r_j² / M_jj, the least ‖Gδ‖² + ‖δ‖² over Aδ = 0 with δ_j = r_j (∞ where r_j = ∞)."""
     ng, nc = d.ng, d.nc
-    Q = np.block([[d.G.T @ d.G + np.eye(ng), d.A.T], [d.A, np.zeros((nc, nc))]])
-    rhs = np.vstack([np.eye(ng), np.zeros((nc, ng))])
+    # The KKT matrix [[GᵀG + I, Aᵀ], [A, 0]] and the right-hand side [I; 0], filled in place.
+    Q = np.zeros((ng + nc, ng + nc))
+    Q[:ng, :ng] = d.G.T @ d.G + np.eye(ng)
+    Q[:ng, ng:] = d.A.T
+    Q[ng:, :ng] = d.A
+    rhs = np.eye(ng + nc, ng)
     try:
         M = np.linalg.solve(Q, rhs)
     except np.linalg.LinAlgError:  # A of numerically deficient rank: the least-squares solution

@@ -29,6 +29,8 @@ become bounded factors of the same set.
 
 from __future__ import annotations
 
+import functools
+import math
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -65,19 +67,21 @@ def gauss_jordan(A: np.ndarray) -> np.ndarray:
     free = np.abs(A)
     threshold = tol.RANK_TOL * free.max(initial=0.0)
     rows, cols = [], []
-    for _ in range(min(nc, ng)):
-        i, j = divmod(int(np.argmax(free)), ng)
+    pivots = min(nc, ng)
+    for step in range(pivots):
+        i, j = divmod(int(free.argmax()), ng)
         if free[i, j] <= threshold:
             break
         M[i] /= M[i, j]
         factor = M[:, j].copy()
         factor[i] = 0.0
-        M -= np.outer(factor, M[i])
+        M -= factor[:, None] * M[i]   # np.outer's products, without its argument handling
         rows.append(i)
         cols.append(j)
-        free = np.abs(M[:, :ng])
-        free[rows] = -1.0
-        free[:, cols] = -1.0
+        if step + 1 < pivots:         # no search follows the last pivot
+            free = np.abs(M[:, :ng])
+            free[rows] = -1.0
+            free[:, cols] = -1.0
     order = rows
     P = M[order, ng:]
     norms = np.abs(M[order, :ng]).sum(axis=1)
@@ -142,16 +146,17 @@ def propagate(A: np.ndarray, b: np.ndarray, h: np.ndarray) -> FactorBounds:
     # fl(P·A) = P·A + E with |E| ≤ γ_nc |P||A| (and alike for b): each row is an interval equation
     # Σ_l [alo_l, ahi_l] ξ_l ∋ bp_i ± db_i.
     # The factor 2 covers the rounding of |P||A| itself; an exact zero stays zero.
-    g = 2.0 * gamma(nc + 1)
+    g = 2.0 * _gamma(nc + 1)
     dA = g * (np.abs(P) @ np.abs(A))
     db = g * (np.abs(P) @ np.abs(b))
     # dA = 0 only where every term of the product was zero: that coefficient is exactly 0.
     empty_here = False
     Alo = np.where(dA == 0.0, Ap, round_down(Ap - dA))
     Ahi = np.where(dA == 0.0, Ap, round_up(Ap + dA))
+    seen = (Alo != 0.0) | (Ahi != 0.0)   # the factors of each row, found for all rows at once
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         for i in range(Ap.shape[0]):
-            cols = np.flatnonzero((Alo[i] != 0.0) | (Ahi[i] != 0.0))
+            cols = seen[i].nonzero()[0]
             qlo, qhi = _row(Alo[i, cols], Ahi[i, cols], lo[cols], hi[cols], bp[i], db[i])
             qlo = np.maximum(qlo, Rlo[cols])
             qhi = np.minimum(qhi, Rhi[cols])
@@ -179,14 +184,14 @@ def _row(alo, ahi, xlo, xhi, beta, dbeta):
     tlo = np.fmin(np.fmin(p1, p2), np.fmin(p3, p4))
     thi = np.fmax(np.fmax(p1, p2), np.fmax(p3, p4))
     slo, shi = tlo.sum(), thi.sum()
-    if np.isfinite(slo) and np.isfinite(shi):
+    if math.isfinite(slo) and math.isfinite(shi):
         olo, ohi = slo - tlo, shi - thi
         mag = np.abs(tlo).sum() + np.abs(thi).sum()
     else:
         olo, ohi, mag = _others_with_infinities(tlo, thi)
     # One bound for every rounding so far (products, sums, the subtraction of the own term, the two
     # operations below): γ_{k+4} times the magnitudes involved.
-    err = gamma(tlo.size + 4) * (mag + abs(beta) + dbeta)
+    err = _gamma(tlo.size + 4) * (mag + abs(beta) + dbeta)
     nlo = beta - dbeta - ohi - err
     nhi = beta + dbeta - olo + err
     q1, q2, q3, q4 = nlo / alo, nlo / ahi, nhi / alo, nhi / ahi
@@ -195,6 +200,13 @@ def _row(alo, ahi, xlo, xhi, beta, dbeta):
     # A divisor interval containing 0 bounds nothing.
     ok = (alo > 0.0) | (ahi < 0.0)
     return np.where(ok, qlo, -np.inf), np.where(ok, qhi, np.inf)
+
+
+@functools.lru_cache(maxsize=None)
+def _gamma(k: int) -> float:
+    """`floating.gamma` of a term count, remembered: the same value, without its array conversion
+    in every row of every sweep."""
+    return float(gamma(k))
 
 
 def _others_with_infinities(tlo: np.ndarray, thi: np.ndarray):
