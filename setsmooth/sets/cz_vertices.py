@@ -18,6 +18,7 @@ solves; it is geometry for estimates and sampling, not a certified enclosure (us
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 from dataclasses import dataclass
@@ -87,10 +88,7 @@ def cz_vertices(Z, max_candidates: int = MAX_VERTEX_CANDIDATES) -> np.ndarray | 
         return c + _signs(ng) @ G.T
     slack = tol.VERTEX_FEASIBILITY_TOL * (1.0 + np.abs(b).max(initial=0.0))
     # All bases at once: β (nb, nc) basic factors, ρ (nb, k) the others at every sign pattern S.
-    beta = np.array(list(itertools.combinations(range(ng), nc)), dtype=int)
-    nonbasic = np.ones((beta.shape[0], ng), dtype=bool)
-    nonbasic[np.arange(beta.shape[0])[:, None], beta] = False
-    rest = np.nonzero(nonbasic)[1].reshape(beta.shape[0], ng - nc)    # increasing, per basis
+    beta, rest = _bases(ng, nc)
     Ab = np.transpose(A[:, beta], (1, 0, 2))                           # (nb, nc, nc)
     is_basis = np.abs(np.linalg.det(Ab)) > tol.RANK_TOL
     beta, rest, Ab = beta[is_basis], rest[is_basis], Ab[is_basis]
@@ -108,11 +106,36 @@ def cz_vertices(Z, max_candidates: int = MAX_VERTEX_CANDIDATES) -> np.ndarray | 
             + np.einsum("pnk,pk->pn", Gr[basis_of], S[pattern]))
 
 
+@functools.lru_cache(maxsize=64)
+def _bases(ng: int, nc: int) -> tuple[np.ndarray, np.ndarray]:
+    """Every choice of nc basic factors among ng, and the other factors of each, read-only.
+
+    Returns
+    -------
+    beta : ndarray of int, shape (C(ng, nc), nc)
+        The basic factors of each choice, increasing (``itertools.combinations`` order).
+    rest : ndarray of int, shape (C(ng, nc), ng − nc)
+        The non-basic factors of each choice, increasing.
+
+    Notes
+    -----
+    They depend on (ng, nc) alone, and the enumeration meets the same few sizes at every step of a
+    filter: they are built once per size.
+    """
+    beta = np.array(list(itertools.combinations(range(ng), nc)), dtype=int)
+    nonbasic = np.ones((beta.shape[0], ng), dtype=bool)
+    nonbasic[np.arange(beta.shape[0])[:, None], beta] = False
+    rest = np.nonzero(nonbasic)[1].reshape(beta.shape[0], ng - nc)
+    beta.flags.writeable = rest.flags.writeable = False
+    return beta, rest
+
+
+@functools.lru_cache(maxsize=64)
 def _signs(k: int) -> np.ndarray:
-    """All 2^k vectors of ±1, shape (2^k, k)."""
-    if k == 0:
-        return np.ones((1, 0))
-    return 1.0 - 2.0 * ((np.arange(2 ** k)[:, None] >> np.arange(k)) & 1)
+    """All 2^k vectors of ±1, shape (2^k, k), read-only (built once per k)."""
+    S = np.ones((1, 0)) if k == 0 else 1.0 - 2.0 * ((np.arange(2 ** k)[:, None] >> np.arange(k)) & 1)
+    S.flags.writeable = False
+    return S
 
 
 @dataclass(frozen=True)

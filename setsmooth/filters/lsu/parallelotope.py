@@ -32,6 +32,7 @@ contains the exact set-membership posterior. The estimate is the centre c (also 
 
 from __future__ import annotations
 
+import functools
 import itertools
 from typing import Any
 
@@ -132,9 +133,13 @@ def _sequential_update(P: Zonotope, C: np.ndarray, strip) -> "Zonotope | EmptySe
     return P
 
 
+@functools.lru_cache(maxsize=16)
 def _CHOICES(k: int, n: int) -> np.ndarray:
-    """All n-subsets of range(k) as rows of an index array."""
-    return np.array(list(itertools.combinations(range(k), n)), dtype=int)
+    """All n-subsets of range(k) as rows of an index array, read-only (built once per (k, n): every
+    step of a filter asks for the same ones)."""
+    choices = np.array(list(itertools.combinations(range(k), n)), dtype=int)
+    choices.flags.writeable = False
+    return choices
 
 
 def parallelotope_update(P: Zonotope, C: np.ndarray, strip) -> "Zonotope | EmptySet":
