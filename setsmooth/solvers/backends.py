@@ -1,6 +1,6 @@
 """The backends of the factor-set programs behind one interface, with one status vocabulary.
 
-A backend solves min qᵀη over a presolved factor set {Âη = b̂, |η_B| ≤ 1} (`presolve.Presolved`):
+A backend solves min qᵀη over a presolved factor set {Âη = b̂, |η_B| ≤ 1} (`presolved.Presolved`):
 ``BACKENDS[name](pre, q, batch) -> Answer``. The names:
 
 * 'clarabel': this thread's kept Clarabel instance of the program, only its objective replaced;

@@ -31,6 +31,7 @@ from .clarabel_lp import SolverError
 from .cz_membership import contains
 from .factor_set import FactorConstraints
 from .instances import cached_instance
+from .warm_simplex import Batch
 
 __all__ = ["CZProgram", "SupportSolution"]
 
@@ -225,7 +226,7 @@ class CZProgram:
         # loose ones: a rough answer goes straight to the simplex method then.
         bracketed = self.factors.free.size == 0 or self.factors.free_bound() is not None
         purpose = "escalated" if escalate else "bracketed" if bracketed else "plain"
-        batch = object()  # the simplex method's answers depend on this call alone (`warm_simplex`)
+        batch = Batch(GtD)  # the simplex method's answers depend on this call alone (`warm_simplex`)
         start = time.perf_counter()
         try:
             for i in range(k):

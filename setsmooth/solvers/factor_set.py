@@ -26,7 +26,8 @@ from .certify import Operators, free_factor_bound
 from .maximization import Maximized, Search
 from .phase_one import decide_empty, relaxed_point
 from .policy import Attempt, policy
-from .presolve import Presolved, presolve
+from .presolve import presolve
+from .presolved import Presolved
 from .recession import STACK_MAX_VARIABLES
 from .recession import unbounded_objectives as _unbounded_objectives
 

@@ -30,7 +30,7 @@ from .backends import BACKENDS, Answer
 from .clarabel_lp import SolverError
 from .policy import Attempt
 from .free_factors import project_free
-from .presolve import Presolved
+from .presolved import Presolved
 
 __all__ = ["Maximized", "Search", "scaled_objective"]
 
@@ -61,9 +61,8 @@ class Maximized:
 def scaled_objective(pre: Presolved, g: np.ndarray) -> tuple[np.ndarray, float, np.ndarray]:
     """The minimized objective q = −ĝ/σ on ``pre``'s factors for maximizing gᵀξ, its scale
     σ = ‖ĝ‖∞ (1 for a zero objective) and the multipliers' zero offset (one per row)."""
-    ghat = pre.objective(g[None, :])[0]
-    sigma = float(np.abs(ghat).max(initial=0.0)) or 1.0
-    return -ghat / sigma, sigma, np.zeros(pre.A.shape[0])
+    q, sigma = pre.minimized(g[None, :])
+    return q[0], float(sigma[0]), np.zeros(pre.A.shape[0])
 
 
 class Search:

@@ -29,7 +29,7 @@ from . import clarabel_lp
 from .backends import box_rows, clarabel_kept
 from .clarabel_lp import SolverError, _zero_cost
 from .highs import simplex_inequalities
-from .presolve import Presolved
+from .presolved import Presolved
 
 __all__ = ["decide_empty", "relaxed_point"]
 

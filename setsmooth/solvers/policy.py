@@ -61,7 +61,7 @@ PURPOSES = ("plain", "bracketed", "escalated")
 
 
 def policy(program, purpose: str) -> tuple[Attempt, ...]:
-    """The attempts for one objective over ``program`` (a `presolve.Presolved`), in order.
+    """The attempts for one objective over ``program`` (a `presolved.Presolved`), in order.
 
     Parameters
     ----------

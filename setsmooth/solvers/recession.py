@@ -18,7 +18,7 @@ import scipy.sparse as sp
 from .. import tolerances as tol
 from .clarabel_lp import SolverError, solve_lp
 from .highs import simplex_box_equalities
-from .presolve import Presolved
+from .presolved import Presolved
 
 __all__ = ["unbounded_objectives", "STACK_MAX_VARIABLES"]
 

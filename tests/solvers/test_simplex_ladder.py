@@ -17,7 +17,7 @@ from scipy.optimize import linprog
 from setsmooth.solvers import highs
 from setsmooth.solvers import warm_simplex as warm_module
 from setsmooth.solvers.highs import interior_point, simplex_cold
-from setsmooth.solvers.presolve import Presolved
+from setsmooth.solvers.presolved import Presolved
 
 DATA = Path(__file__).parent / "data" / "cycling_program.npz"
 
@@ -282,3 +282,44 @@ def test_the_interior_point_fallback_settles_where_every_simplex_basis_is_singul
     assert name == "AlmostSolved"
     gap = pre.checked_gap(q, eta, lam)
     assert gap is not None and gap <= tol.ACCURATE_GAP_TOL
+
+
+def _small_cz(rng: np.random.Generator):
+    import setsmooth as ss
+
+    G, A = rng.standard_normal((2, 20)), rng.standard_normal((8, 20))
+    return ss.ConstrainedZonotope(G, rng.standard_normal(2), A=A, b=A @ rng.uniform(-0.8, 0.8, 20))
+
+
+def test_a_small_programs_batch_is_one_block_lp_with_the_warm_runs_answers(monkeypatch):
+    """A batch of k objectives over a small program is solved as one block-diagonal LP
+    (`warm_simplex.Batch`): one HiGHS run per interval hull of a 2-D set with 20 factors instead of
+    five (the feasible basis and four warm runs), and the hulls, plain and certified, agree with
+    the warm runs' to 1e-9 of the width and with an independent `linprog` of every direction."""
+    import highspy
+
+    runs = []
+    real_run = highspy.Highs.run
+    monkeypatch.setattr(highspy.Highs, "run", lambda h: runs.append(1) or real_run(h))
+    rng = np.random.default_rng(12)
+    for _ in range(5):
+        Z = _small_cz(rng)
+        runs.clear()
+        block = Z.interval_hull(certified=True)
+        assert len(runs) == 1
+        with monkeypatch.context() as m:
+            m.setattr(warm_module, "BLOCK_SIZE_MAX", 0)
+            Z2 = type(Z)(Z.G, Z.c, A=Z.A, b=Z.b)  # a fresh set: no program kept
+            runs.clear()
+            warm = Z2.interval_hull(certified=True)
+            assert len(runs) == 5
+        width = block.hi - block.lo
+        assert np.all(np.abs(block.lo - warm.lo) <= 1e-9 * width)
+        assert np.all(np.abs(block.hi - warm.hi) <= 1e-9 * width)
+        for i in range(2):
+            for sign in (1.0, -1.0):
+                res = linprog(-sign * Z.G[i], A_eq=Z.A, b_eq=Z.b, bounds=(-1, 1), method="highs")
+                exact = sign * Z.c[i] - res.fun  # h_Z(±e_i)
+                bound = block.hi[i] if sign > 0 else -block.lo[i]
+                assert bound >= exact - 1e-9 * width[i]
+                assert bound <= exact + 1e-6 * width[i]
