@@ -111,9 +111,9 @@ def reduce(S: ConvexSet, method_or_methods: MethodOrMethods) -> ConvexSet:
         A `Zonotope`, `ConstrainedZonotope`, `Box` or `EmptySet`.
     method_or_methods : ReductionMethod or sequence of ReductionMethod
         One method, or a non-empty sequence applied in order, e.g. ``ss.Girard(1)``,
-        ``(ss.Rescale('iter'), ss.EliminateConstraints(1), ss.Girard(1))``, ``ss.CORA_GIRARD``. A
-        ``Rescale('iter')`` right before an `EliminateConstraints` is skipped (that method begins
-        with the same propagation and rescaling; see `apply_methods`).
+        ``(ss.Rescale('iter'), ss.EliminateConstraints(1), ss.Girard(1))``, ``ss.CORA_GIRARD``. Every
+        method is applied, a ``Rescale('iter')`` right before an `EliminateConstraints` too (see
+        `apply_methods`).
 
     Returns
     -------

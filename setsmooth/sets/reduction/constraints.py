@@ -146,9 +146,10 @@ class EliminateConstraints(ReductionMethod):
 
     Notes
     -----
-    Each step begins with the propagation and rescaling of `Rescale('iter')`, so a ``Rescale('iter')``
-    placed right before this method in a sequence (as in `CORA_GIRARD`) would repeat it:
-    `apply_methods` skips that Rescale (the result is the same set).
+    Each step begins with the propagation and rescaling of `Rescale('iter')`. A ``Rescale('iter')``
+    placed right before this method in a sequence (as in `CORA_GIRARD`) is still applied
+    (`apply_methods` applies every method): on its rescaled data the propagated ranges lie inside the
+    factors' bounds, which lets the elimination be exact.
     Floating point: the bounds are rigorous; the substitutions are exact up to the roundoff of the
     data (see `eliminate_factor`).
 
