@@ -105,3 +105,8 @@ SUPPORT_GAP_TOL = 1e-7
 #: `certified_bound` reports, is added to it four times. (2⁻⁴⁰, the floor before, let a bracket of
 #: 3e-6 pass at states 1.9e6: 2e-6 of a unit-width hull.)
 SUPPORT_GAP_FLOOR = 2.0 ** -50
+
+#: The relative width w / (|h(d)| + |h(−d)|) below which a plain support value is not guaranteed to
+#: 1e-7 of the width (the bracket's floor decides there, ``SUPPORT_GAP_FLOOR / SUPPORT_GAP_TOL`` ≈
+#: 8.9e-9): along such directions the plain value is the certified bound (docs/numerical_core.md).
+GUARANTEED_WIDTH_RATIO = SUPPORT_GAP_FLOOR / SUPPORT_GAP_TOL

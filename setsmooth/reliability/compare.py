@@ -61,9 +61,9 @@ REL_TOL = 1e-6
 TRUTH_TOL = 1e-8
 #: Margin for a certified endpoint inside the exact one: the oracle's accuracy on the unit-scaled LP.
 ENCLOSE_TOL = 1e-9
-#: The relative width w / (|h(d)| + |h(−d)|) below which the library's plain values are no longer
-#: guaranteed to a fraction of the width (``SUPPORT_GAP_FLOOR / SUPPORT_GAP_TOL``, about 1e-8).
-GUARANTEED_RATIO = tolerances.SUPPORT_GAP_FLOOR / tolerances.SUPPORT_GAP_TOL
+#: The relative width below which the library's plain values are no longer guaranteed to a fraction
+#: of the width, and are the certified bounds instead (`tolerances.GUARANTEED_WIDTH_RATIO`).
+GUARANTEED_RATIO = tolerances.GUARANTEED_WIDTH_RATIO
 _EPS64 = 64 * np.finfo(float).eps
 
 

@@ -170,7 +170,22 @@ class CZProgram:
                 xis[take], lams[take] = x2[ok][better], l2[ok][better]
                 bounds[r] = np.minimum(bounds[r], b2)
         values = np.where(finite, np.minimum(values, bounds), values)
+        thin = finite & self._below_guarantee(D, values)
+        values = np.where(thin, bounds, values)
         return (values, points, xis, lams), bounds
+
+    @staticmethod
+    def _below_guarantee(D: np.ndarray, values: np.ndarray) -> np.ndarray:
+        """The rows d of ``D`` along which the set is thinner than the plain values' guarantee:
+        −d is a row too and the width h(d) + h(−d) is below ``GUARANTEED_WIDTH_RATIO``·(|h(d)| +
+        |h(−d)|). There the floor of the bracket, not 1e-7 of the width, bounds a plain value's
+        error, so the certified bound is returned in its place (docs/numerical_core.md)."""
+        partner = _partners(D)
+        paired = partner >= 0
+        other = values[np.where(paired, partner, 0)]
+        with np.errstate(invalid="ignore"):
+            width = values + other
+            return paired & (width < tol.GUARANTEED_WIDTH_RATIO * (np.abs(values) + np.abs(other)))
 
     @staticmethod
     def _gap_tolerance(D: np.ndarray, lower: np.ndarray, upper: np.ndarray,
@@ -183,11 +198,9 @@ class CZProgram:
         origin from hiding a loose answer (docs/numerical_core.md)."""
         magnitude = np.abs(lower) + np.abs(upper)
         scale = magnitude.copy()
-        rows = {(row + 0.0).tobytes(): i for i, row in enumerate(D)}  # + 0.0: −0.0 reads as 0.0
-        for i, row in enumerate(D):
-            j = rows.get((-row + 0.0).tobytes())
-            if j is not None:
-                scale[i] = max(lower[i] + lower[j], 0.0)
+        partner = _partners(D)
+        paired = partner >= 0
+        scale[paired] = np.maximum(lower[paired] + lower[partner[paired]], 0.0)
         floor = tol.SUPPORT_GAP_FLOOR * magnitude
         if rounding is not None:
             floor = floor + 4.0 * rounding
@@ -293,3 +306,9 @@ class CZProgram:
         """Whether some ξ with Aξ = b, |ξ| ≤ h has ‖Gξ + c − p‖∞ ≤ margin
         (`cz_membership.contains`)."""
         return contains(self, p, margin)
+
+
+def _partners(D: np.ndarray) -> np.ndarray:
+    """For every row d of ``D`` the index of the row −d, or −1 when there is none."""
+    rows = {(row + 0.0).tobytes(): i for i, row in enumerate(D)}  # + 0.0: −0.0 reads as 0.0
+    return np.array([rows.get((-row + 0.0).tobytes(), -1) for row in D], dtype=int)

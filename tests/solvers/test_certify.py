@@ -159,3 +159,26 @@ def test_a_certified_bound_far_from_the_origin_is_tight_to_the_width_and_above_t
         width = 2.0 * float(np.abs(d[i] @ G).sum())
         assert Fraction(float(bound[i])) >= exact
         assert float(Fraction(float(bound[i])) - exact) <= 1e-8 * width
+
+
+def test_below_the_guaranteed_width_a_plain_hull_is_the_certified_one():
+    """A coordinate thinner than ``GUARANTEED_WIDTH_RATIO`` of its magnitude (a segment at x₂ = 5e6
+    exactly, rounded by the set's own data) gets the certified endpoints as its plain hull: outer,
+    holding the exact value, never a solver value placed only to the bracket's floor. The wide
+    coordinate keeps the solver's values (inside the certified ones), and a single support value
+    along the thin direction stays the solver's."""
+    from setsmooth import tolerances
+
+    G = np.array([[1.0, 0.5, 0.25], [1e-9, 0.0, -1e-9]])
+    Z = ss.ConstrainedZonotope(G, np.array([0.0, 5e6]), A=np.array([[1.0, 1.0, 1.0]]),
+                               b=np.array([0.3]))
+    plain, certified = Z.interval_hull(certified=False), Z.interval_hull(certified=True)
+    width = plain.hi - plain.lo
+    assert width[1] < tolerances.GUARANTEED_WIDTH_RATIO * (abs(plain.lo[1]) + abs(plain.hi[1]))
+    assert plain.lo[1] == certified.lo[1] and plain.hi[1] == certified.hi[1]
+    exact = [sign * 5e6 - linprog(-sign * G[1], A_eq=Z.A, b_eq=Z.b, bounds=(-1, 1)).fun
+             for sign in (1.0, -1.0)]  # h(±e₂), up to linprog's accuracy on the 1e-9 entries
+    assert plain.hi[1] >= exact[0] and -plain.lo[1] >= exact[1]
+    assert plain.lo[0] >= certified.lo[0] and plain.hi[0] <= certified.hi[0]
+    assert (plain.lo[0], plain.hi[0]) != (certified.lo[0], certified.hi[0])
+    assert Z.support(np.array([0.0, 1.0])) < certified.hi[1]
