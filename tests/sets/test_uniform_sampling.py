@@ -101,3 +101,27 @@ def test_samplers_refuse_empty_flat_and_unknown_requests():
         PENTAGON.sample(rng, 2, method="gibbs")
     with pytest.raises(ValueError, match="no exact sampler"):
         TRIANGLE.sample(rng, 2, method="exact")
+
+
+@pytest.mark.parametrize("scale", [1.0, 1e-300, 1e-310, 1e300, 1e200, 0.0])
+def test_the_single_row_basis_of_cz_vertices_is_independent_rows_answer(scale):
+    """`cz_vertices` answers one finite non-zero row without a QR: as `linalg.independent_rows` does,
+    down to the smallest normal norm, for zero, subnormal, huge (overflowing) and NaN rows alike."""
+    from setsmooth.linalg import independent_rows
+    from setsmooth.sets.cz_vertices import _row_basis
+
+    rng = np.random.default_rng(3)
+    rows = [scale * rng.standard_normal((1, k)) for k in (1, 3, 9)]
+    rows.append(np.array([[np.nan, 1.0]]))
+    rows.append(np.array([[np.inf, 1.0]]))
+    def answer(f, A, b):
+        try:
+            basis = f(A, b)
+        except ValueError as exc:  # a NaN or infinite row: the QR refuses it, in both
+            return str(exc)
+        return basis.keep.tolist(), basis.consistent
+
+    with np.errstate(over="ignore", invalid="ignore"):  # the norms of the huge rows overflow
+        for A in rows:
+            b = rng.standard_normal(1)
+            assert answer(_row_basis, A, b) == answer(independent_rows, A, b)
