@@ -101,22 +101,28 @@ class Presolved:
         return float(np.abs(q[free] + AFt @ z).max(initial=0.0))
 
     def checked_gap(self, q: np.ndarray, eta: np.ndarray, z: np.ndarray) -> float | None:
-        """Independent check of a reduced-accuracy answer (η, ẑ) to min qᵀη, in the presolved
-        units: primal residual, bound overshoot and gap to the weak-duality bound
-        b̂ᵀλ + Σ_B |ĝ − Âᵀλ|_j must be within ``SOLVER_CHECK_TOL`` of the scale (rows and objective
-        have unit ∞-norm, bounds are 1). Returns the relative gap, or None when the check fails."""
+        """`checked_gaps` of one answer: the relative gap, or None when the check fails."""
+        gap = float(self.checked_gaps(q[None], eta[None], z[None])[0])
+        return None if np.isinf(gap) else gap
+
+    def checked_gaps(self, Q: np.ndarray, eta: np.ndarray, z: np.ndarray) -> np.ndarray:
+        """Independent check of reduced-accuracy answers (η, ẑ) to min qᵀη (rows of ``Q``, ``eta``
+        and ``z``), in the presolved units: primal residual, bound overshoot and gap to the
+        weak-duality bound b̂ᵀλ + Σ_B |ĝ − Âᵀλ|_j must be within ``SOLVER_CHECK_TOL`` of the scale
+        (rows and objective have unit ∞-norm, bounds are 1). Returns the relative gaps, inf where
+        the check fails."""
         lam = z  # Clarabel's stationarity q + Âᵀz = 0 on the free factors: λ̂ = z
-        reduced = -q - self.products[1] @ lam
+        reduced = -Q - (self.products[1] @ lam.T).T
         free = self.has_free  # else the masks select every entry: the same sums, unmasked
-        if free and np.abs(reduced[~self.bounded]).max(initial=0.0) > tol.REDUCED_COST_TOL:
-            return None
-        primal = float(-q @ eta)
-        dual = float(lam @ self.b + np.abs(reduced[self.bounded] if free else reduced).sum())
-        scale = self.data_scale + np.abs(q).sum()
-        residual = np.abs(self.products[0] @ eta - self.b).max(initial=0.0)
-        overshoot = np.max(np.abs(eta[self.bounded] if free else eta) - 1.0, initial=0.0)
-        worst = max(abs(dual - primal), residual, overshoot) / scale
-        return worst if worst <= tol.SOLVER_CHECK_TOL else None
+        leak = np.abs(reduced[:, ~self.bounded]).max(axis=1, initial=0.0) if free else 0.0
+        primal = -np.einsum("ij,ij->i", Q, eta)
+        dual = lam @ self.b + np.abs(reduced[:, self.bounded] if free else reduced).sum(axis=1)
+        scale = self.data_scale + np.abs(Q).sum(axis=1)
+        residual = np.abs((self.products[0] @ eta.T).T - self.b).max(axis=1, initial=0.0)
+        overshoot = np.max(np.abs(eta[:, self.bounded] if free else eta) - 1.0, axis=1, initial=0.0)
+        worst = np.maximum(np.maximum(np.abs(dual - primal), residual), overshoot) / scale
+        failed = (worst > tol.SOLVER_CHECK_TOL) | (leak > tol.REDUCED_COST_TOL)
+        return np.where(failed, np.inf, worst)
 
     def objective(self, g: np.ndarray) -> np.ndarray:
         """ĝ = S g[cols] for objectives ``g`` of the original factors (rows of a (k, ng) array)."""

@@ -190,8 +190,9 @@ class WarmSimplex:
 
 
     def block_answer(self, pre, q: np.ndarray, batch: Batch) -> tuple | None:
-        """The answer of the block LP of ``batch`` (`Batch`) for the objective ``q``, or None when
-        the block did not settle it (or the batch is too large, or q is not one of its objectives)."""
+        """The answer of the block LP of ``batch`` (`Batch`) for the objective ``q`` with its
+        `Presolved.checked_gaps` gap, (status, η, λ̂, gap), or None when the block did not settle it
+        (or the batch is too large, or q is not one of its objectives)."""
         if self._block is None or self._block[0] is not batch:
             self._block = (batch, self._solve_block(pre, batch))
         return self._block[1].get(q.tobytes())
@@ -207,8 +208,9 @@ class WarmSimplex:
         name, eta, lam = cold_ladder(h, Q.ravel(), SIMPLEX_TOLERANCES)
         if eta is None:
             return {}
-        return {Q[j].tobytes(): ("AlmostSolved", eta[j * p:(j + 1) * p], lam[j * m:(j + 1) * m])
-                for j in range(k)}
+        eta, lam = eta.reshape(k, p), lam.reshape(k, m)
+        gaps = pre.checked_gaps(Q, eta, lam)
+        return {Q[j].tobytes(): ("AlmostSolved", eta[j], lam[j], gaps[j]) for j in range(k)}
 
 
 def _block_diagonal(A: sp.csc_matrix, k: int) -> sp.csc_matrix:
@@ -238,11 +240,9 @@ def checked_simplex(pre, q: np.ndarray, batch: object
     """`simplex` and the answer's `Presolved.checked_gap` (inf when it is not an optimum or fails
     the check), so that the caller need not check it again."""
     model = cached_instance(pre, WARM_MODEL_KEY, lambda: WarmSimplex(pre.A, pre.b, pre.bounded))
-    answer = model.block_answer(pre, q, batch) if isinstance(batch, Batch) else None
-    if answer is not None:
-        gap = _gap_or_inf(pre, q, answer)
-        if gap <= tol.ACCURATE_GAP_TOL:
-            return (*answer, gap)
+    checked = model.block_answer(pre, q, batch) if isinstance(batch, Batch) else None
+    if checked is not None and checked[3] <= tol.ACCURATE_GAP_TOL:
+        return checked
     answer = model.minimize(q, batch)  # not in the block, or not accurate there: the warm way
     gap = _gap_or_inf(pre, q, answer)
     if gap > tol.ACCURATE_GAP_TOL and model.answered_by_primal:
