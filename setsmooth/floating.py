@@ -21,7 +21,8 @@ U = float(np.finfo(float).eps) / 2
 ETA = float(np.nextafter(0.0, 1.0))
 
 
-def gamma(n: int | np.ndarray) -> np.ndarray:
-    """γ_n = n·u / (1 − n·u): the relative error bound of a floating-point sum of n terms."""
-    nu = np.asarray(n, dtype=float) * U
+def gamma(n: int | np.ndarray) -> float | np.ndarray:
+    """γ_n = n·u / (1 − n·u): the relative error bound of a floating-point sum of n terms (a float
+    for a Python int, the same binary64 operations as for an array)."""
+    nu = n * U if isinstance(n, int) else np.asarray(n, dtype=float) * U
     return nu / (1.0 - nu)

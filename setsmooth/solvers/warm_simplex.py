@@ -188,7 +188,6 @@ class WarmSimplex:
         self._warm = False
         return name, np.full(p, np.nan), np.full(m, np.nan)
 
-
     def block_answer(self, pre, q: np.ndarray, batch: Batch) -> tuple | None:
         """The answer of the block LP of ``batch`` (`Batch`) for the objective ``q`` with its
         `Presolved.checked_gaps` gap, (status, η, λ̂, gap), or None when the block did not settle it
@@ -254,7 +253,8 @@ def checked_simplex(pre, q: np.ndarray, batch: object
 
 
 def _gap_or_inf(pre, q: np.ndarray, answer: tuple) -> float:
-    """`Presolved.checked_gap` of a simplex answer; inf when it is not an optimum or fails."""
+    """`Presolved.checked_gaps` of a simplex answer; inf when it is not an optimum or fails."""
     name, eta, z = answer
-    gap = pre.checked_gap(q, eta, z) if name == "AlmostSolved" else None
-    return np.inf if gap is None else gap
+    if name != "AlmostSolved":
+        return np.inf
+    return float(pre.checked_gaps(q[None], eta[None], z[None])[0])

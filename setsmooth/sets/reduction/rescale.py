@@ -29,7 +29,6 @@ become bounded factors of the same set.
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -146,7 +145,7 @@ def propagate(A: np.ndarray, b: np.ndarray, h: np.ndarray) -> FactorBounds:
     # fl(P·A) = P·A + E with |E| ≤ γ_nc |P||A| (and alike for b): each row is an interval equation
     # Σ_l [alo_l, ahi_l] ξ_l ∋ bp_i ± db_i.
     # The factor 2 covers the rounding of |P||A| itself; an exact zero stays zero.
-    g = 2.0 * _gamma(nc + 1)
+    g = 2.0 * gamma(nc + 1)
     dA = g * (np.abs(P) @ np.abs(A))
     db = g * (np.abs(P) @ np.abs(b))
     # dA = 0 only where every term of the product was zero: that coefficient is exactly 0.
@@ -191,7 +190,7 @@ def _row(alo, ahi, xlo, xhi, beta, dbeta):
         olo, ohi, mag = _others_with_infinities(tlo, thi)
     # One bound for every rounding so far (products, sums, the subtraction of the own term, the two
     # operations below): γ_{k+4} times the magnitudes involved.
-    err = _gamma(tlo.size + 4) * (mag + abs(beta) + dbeta)
+    err = gamma(tlo.size + 4) * (mag + abs(beta) + dbeta)
     nlo = beta - dbeta - ohi - err
     nhi = beta + dbeta - olo + err
     q1, q2, q3, q4 = nlo / alo, nlo / ahi, nhi / alo, nhi / ahi
@@ -201,12 +200,6 @@ def _row(alo, ahi, xlo, xhi, beta, dbeta):
     ok = (alo > 0.0) | (ahi < 0.0)
     return np.where(ok, qlo, -np.inf), np.where(ok, qhi, np.inf)
 
-
-@functools.lru_cache(maxsize=None)
-def _gamma(k: int) -> float:
-    """`floating.gamma` of a term count, remembered: the same value, without its array conversion
-    in every row of every sweep."""
-    return float(gamma(k))
 
 
 def _others_with_infinities(tlo: np.ndarray, thi: np.ndarray):
