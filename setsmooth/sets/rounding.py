@@ -371,6 +371,9 @@ def product_error(M, X) -> np.ndarray | sp.spmatrix:
     """
     sparse = sp.issparse(M) or sp.issparse(X)
     if sparse:
+        small = _small_sparse_product_error(M, X)
+        if small is not None:
+            return small
         M, X = sp.csr_matrix(M), sp.csc_matrix(X)
     P = M @ X
     magnitude = _abs(M) @ _abs(X)
@@ -400,6 +403,63 @@ def product_error(M, X) -> np.ndarray | sp.spmatrix:
     P = np.asarray(P)
     rounded = (count > 1) | ((count == 1) & ((single_error != 0) | (np.abs(P) < _DEKKER_MIN)))
     return np.where(rounded, 2.0 * gamma(k + 1) * magnitude + count * ETA, 0.0)
+
+
+#: `product_error` of a sparse product with at most this many terms m·k·n is computed on dense copies.
+_SMALL_SPARSE_PRODUCT_TERMS = 32768
+
+
+def _small_sparse_product_error(M, X) -> sp.csr_matrix | None:
+    """`product_error`'s sparse answer, bit for bit, from dense copies of a small product; None where
+    that is not guaranteed (the caller then takes the sparse path).
+
+    Every term M_ij·X_jk is formed once, in an (m, k, n) array. The sparse path's magnitude sums its
+    terms one by one, starting from zero, in the order of M's stored row entries (scipy's csr_matmat,
+    no fused multiply-add): for a canonical M (or a dense one) that is increasing j, which the running
+    sum below repeats; the terms of absent entries are +0 and leave a nonnegative sum unchanged.
+    Counts are exact integers, and fl(M·X) and the TwoProduct error are read only where an entry has
+    one term, whose value is then the same however the zero terms are added. The answer is a CSR
+    matrix of the nonzero entries in increasing column order: the sparse path's order may differ, so it
+    is returned only when no row has more than two nonzeros, where a product E·v (two terms summed
+    from zero) does not depend on the order. Non-finite data (0·∞ would become NaN) are left to the
+    sparse path.
+    """
+    dense = []
+    for Y in (M, X):
+        if sp.issparse(Y):
+            if Y.format not in ("csr", "csc") or not Y.has_canonical_format:
+                return None
+            Y = Y.toarray()
+        Y = np.asarray(Y, dtype=float)
+        if Y.ndim != 2 or not np.isfinite(Y).all():
+            return None
+        dense.append(Y)
+    Md, Xd = dense
+    m, k = Md.shape
+    n = Xd.shape[1]
+    if k == 0 or m * k * n > _SMALL_SPARSE_PRODUCT_TERMS:
+        return None
+    M3, X3 = Md[:, :, None], Xd[None, :, :]
+    terms = np.abs(M3) * np.abs(X3)
+    magnitude = terms[:, 0, :]
+    for j in range(1, k):
+        magnitude = magnitude + terms[:, j, :]
+    count = ((M3 != 0) & (X3 != 0)).sum(axis=1)
+    Mh, Ml = _split(M3)
+    Xh, Xl = _split(X3)
+    if not (np.isfinite(Mh).all() and np.isfinite(Xh).all()):  # |entry| near overflow: 0·NaN below
+        return None
+    with np.errstate(over="ignore", invalid="ignore"):
+        products = M3 * X3
+        error = ((Mh * Xh - products) + Mh * Xl + Ml * Xh) + Ml * Xl
+        P, single_error = products.sum(axis=1), error.sum(axis=1)
+    single_error = np.where(np.isfinite(single_error), single_error, 1.0)  # overflow: not exact
+    rounded = (count > 1) | ((count == 1) & ((single_error != 0) | (np.abs(P) < _DEKKER_MIN)))
+    k_max = float(count.max(initial=0))
+    E = np.where(rounded, magnitude * (2.0 * float(gamma(k_max + 1))) + count * ETA, 0.0)
+    if np.count_nonzero(E, axis=1).max(initial=0) > 2:
+        return None
+    return sp.csr_matrix(E)
 
 
 def _weighted_rows(E, h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -56,6 +56,33 @@ def test_products_that_are_exact_are_charged_nothing():
     assert np.any(rounding.product_error(M, M))
 
 
+def test_a_small_sparse_product_is_charged_bit_for_bit_as_by_the_sparse_path(monkeypatch):
+    rng = np.random.default_rng(4)
+
+    def draw(shape):
+        scale = rng.choice([10.0 ** rng.integers(-5, 6), 1e-160, 0.25])  # 1e-160: products underflow
+        A = rng.integers(-8, 9, size=shape) * scale if scale == 0.25 else rng.normal(size=shape) * scale
+        A[rng.random(shape) < rng.random()] = 0.0
+        return A
+
+    cases = []
+    for _ in range(400):
+        m, k, n = rng.integers(1, 6, size=3)
+        M, X = draw((m, k)), draw((k, rng.integers(1, 40)))
+        M = M if rng.random() < 0.5 else sp.csr_matrix(M) if rng.random() < 0.5 else sp.csc_matrix(M)
+        X = sp.csr_matrix(X) if rng.random() < 0.5 else sp.csc_matrix(X)
+        cases.append((M, X, rounding.product_error(M, X)))
+    taken = sum(rounding._small_sparse_product_error(M, X) is not None for M, X, _ in cases)
+    assert 0.2 * len(cases) < taken < len(cases)  # rows with three charged entries go the sparse way
+    monkeypatch.setattr(rounding, "_SMALL_SPARSE_PRODUCT_TERMS", 0)  # every product the sparse way
+    for M, X, E in cases:
+        reference = rounding.product_error(M, X)
+        assert isinstance(E, sp.csr_matrix)
+        assert np.array_equal(E.toarray(), reference.toarray())
+        v = rng.random(X.shape[1])
+        assert np.array_equal(E @ v, reference @ v)  # the order of a row's entries does not matter
+
+
 def test_a_box_as_centre_and_radius_keeps_every_point():
     rng = np.random.default_rng(3)
     lo = rng.normal(size=300) * 1e6 + rng.normal(size=300)
