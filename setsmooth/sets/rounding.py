@@ -457,9 +457,11 @@ def _small_sparse_product_error(M, X) -> sp.csr_matrix | None:
     rounded = (count > 1) | ((count == 1) & ((single_error != 0) | (np.abs(P) < _DEKKER_MIN)))
     k_max = float(count.max(initial=0))
     E = np.where(rounded, magnitude * (2.0 * float(gamma(k_max + 1))) + count * ETA, 0.0)
-    if np.count_nonzero(E, axis=1).max(initial=0) > 2:
+    per_row = np.count_nonzero(E, axis=1)
+    if per_row.max(initial=0) > 2:
         return None
-    return sp.csr_matrix(E)
+    _, columns = np.nonzero(E)
+    return sp.csr_matrix((E[E != 0], columns, np.concatenate(([0], np.cumsum(per_row)))), shape=E.shape)
 
 
 def _weighted_rows(E, h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -485,8 +487,11 @@ def linear_image(M, G, c: np.ndarray, h: np.ndarray, pad: np.ndarray | None,
     if pad_free is not None:
         free_terms.append(np.asarray(_abs(M) @ pad_free).reshape(-1))
     cc = np.asarray(c, dtype=float)[:, None]
-    Ec = product_error(M, sp.csc_matrix(cc) if sp.issparse(M) else cc)
-    terms.append(np.asarray(Ec.todense() if sp.issparse(Ec) else Ec).reshape(-1))
+    if cc.any():
+        Ec = product_error(M, sp.csc_matrix(cc) if sp.issparse(M) else cc)
+        terms.append(np.asarray(Ec.todense() if sp.issparse(Ec) else Ec).reshape(-1))
+    else:  # M·0 is exact: `product_error` charges zero
+        terms.append(np.zeros(M.shape[0]))
     if G.shape[1]:
         bounded, free = _weighted_rows(product_error(M, G), h)
         terms.append(bounded)
