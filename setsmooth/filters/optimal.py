@@ -275,6 +275,9 @@ def _assemble(system, joint_range: JointRange, cz: ConstrainedZonotope, ys: np.n
     n = system.n
     n_states = n * (stop + 1)
     G_J = sp.csr_matrix(cz.G)
+    if not G_J.has_canonical_format:  # duplicate entries: summed once, for the rows and their charges alike
+        G_J = G_J.copy()
+        G_J.sum_duplicates()
     c_J = cz.c
     # Nominal trajectory x̄ (noises at the centre of J): the centre of the trajectory CZ.
     nominal = np.empty((stop + 1, n))
@@ -283,20 +286,20 @@ def _assemble(system, joint_range: JointRange, cz: ConstrainedZonotope, ys: np.n
         nominal[l + 1] = (system.A_at(l) @ nominal[l] + system.E_at(l) @ c_J[list(joint_range.w_dims(l))]
                           + system.input_term(l))
 
-    def state(l: int) -> sp.csr_matrix:
-        return sp.csr_matrix((np.ones(n), (np.arange(n), np.arange(l * n, (l + 1) * n))), shape=(n, n_states))
+    # The rows of (★) below J's own, [state part | η part], as triplets of their nonzeros.
+    entries: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
 
-    def factors(dims) -> sp.csr_matrix:
-        return G_J[list(dims)]
+    def put(block: np.ndarray, row: int, column: int) -> None:
+        r, c = np.nonzero(block)
+        entries.append((r + row, c + column, block[r, c]))
 
     # The rows' rounding slack (`setsmooth.sets.rounding`, as in `trajectories.sparse_cz._assemble`): J's own
     # charges where its coordinates enter a row, the nominal trajectory's rounding, and that of the
     # products B·G_J, D·G_J and of the measurement rows' right-hand sides.
-    def charge(M, dims):
-        dims = list(dims)
+    def charge(M, dims, G_dims):
         pad = None if cz.pad is None else cz.pad[dims]
         pad_free = None if cz.pad_free is None else cz.pad_free[dims]
-        bounded, free = rounding.linear_image(M, G_J[dims], np.zeros(len(dims)), cz.h, pad, pad_free)
+        bounded, free = rounding.linear_image(M, G_dims, np.zeros(len(dims)), cz.h, pad, pad_free)
         zeros = np.zeros(M.shape[0])
         return (zeros if bounded is None else bounded), (zeros if free is None else free)
 
@@ -304,35 +307,40 @@ def _assemble(system, joint_range: JointRange, cz: ConstrainedZonotope, ys: np.n
     slack = [rounding.zeros_or(cz.slack, cz.nc), rounding.zeros_or(None if cz.pad is None else cz.pad[x0], n)]
     slack_free = [rounding.zeros_or(cz.slack_free, cz.nc),
                   rounding.zeros_or(None if cz.pad_free is None else cz.pad_free[x0], n)]
-    rows_s, rows_eta, rhs = [], [], []
-    rows_s.append(state(0))
-    rows_eta.append(-factors(joint_range.x0_dims()))
-    rhs.append(np.zeros(n))
+    put(np.eye(n), 0, 0)
+    put(-G_J[x0].toarray(), 0, n_states)
+    rhs, residuals, charges = [np.zeros(n)], [], []
     for l in range(stop):
         A_l, B_l, w = system.A_at(l), system.E_at(l), list(joint_range.w_dims(l))
-        rows_s.append(state(l + 1) - sp.csr_matrix(A_l) @ state(l))
-        rows_eta.append(-sp.csr_matrix(B_l) @ factors(w))
+        G_w = G_J[w]
+        row = n * (l + 1)
+        put(np.eye(n), row, row)
+        put(-np.asarray(A_l, dtype=float), row, row - n)
+        put(-_sparse_product(B_l, G_w.toarray()), row, n_states)
         rhs.append(np.zeros(n))
-        nominal_error = rounding.residual_bound([(A_l, nominal[l]), (B_l, c_J[w]),
-                                                 (np.ones(n), system.input_term(l)),
-                                                 (-np.ones(n), nominal[l + 1])])
-        bounded, free = charge(B_l, w)
-        slack.append(rounding.add(nominal_error, bounded))
-        slack_free.append(free)
+        residuals.append([(A_l, nominal[l]), (B_l, c_J[w]), (np.ones(n), system.input_term(l)),
+                          (-np.ones(n), nominal[l + 1])])
+        charges.append(charge(B_l, w, G_w))
+    row = n_states
     for l in range(stop + 1):
         C_l, D_l, v = system.C_at(l), system.F_at(l), list(joint_range.v_dims(l))
-        rows_s.append(sp.csr_matrix(C_l) @ state(l))
-        rows_eta.append(sp.csr_matrix(D_l) @ factors(v))
+        G_v = G_J[v]
+        put(np.asarray(C_l, dtype=float), row, l * n)
+        put(_sparse_product(D_l, G_v.toarray()), row, n_states)
+        row += C_l.shape[0]
         rhs.append(ys[l] - D_l @ c_J[v] - C_l @ nominal[l])
         m = C_l.shape[0]
-        rhs_error = rounding.residual_bound([(np.ones(m), ys[l]), (-D_l, c_J[v]), (-C_l, nominal[l]),
-                                             (-np.ones(m), rhs[-1])])
-        bounded, free = charge(D_l, v)
-        slack.append(rounding.add(rhs_error, bounded))
+        residuals.append([(np.ones(m), ys[l]), (-D_l, c_J[v]), (-C_l, nominal[l]), (-np.ones(m), rhs[-1])])
+        charges.append(charge(D_l, v, G_v))
+    # One Dot2 pass per number of terms: bit for bit the bounds of the rows one by one.
+    for error, (bounded, free) in zip(rounding.residual_bounds(residuals), charges):
+        slack.append(rounding.add(error, bounded))
         slack_free.append(free)
+    r, c, values = (np.concatenate(parts) for parts in zip(*entries))
+    rows = sp.csr_matrix((values, (r, c)), shape=(row, n_states + cz.ng))
     A = sp.vstack([
         sp.hstack([sp.csr_matrix((cz.nc, n_states)), sp.csr_matrix(cz.A)]),
-        sp.hstack([sp.vstack(rows_s), sp.vstack(rows_eta)]),
+        rows,
     ]).tocsc()
     A.eliminate_zeros()
     b = np.concatenate([cz.b, *rhs])
@@ -343,3 +351,16 @@ def _assemble(system, joint_range: JointRange, cz: ConstrainedZonotope, ys: np.n
                                                 slack_free=np.concatenate(slack_free))
     trajectories.factors  # created now, so that every projection shares one factor set
     return trajectories
+
+
+def _sparse_product(M, X: np.ndarray) -> np.ndarray:
+    """fl(M·X) as scipy's sparse product csr(M)·csr(X) forms it, on dense arrays: each entry the sum,
+    from zero and in increasing j, of its terms M_ij·X_jk with both factors nonzero. (The skipped terms
+    would add zeros: only a zero's sign could differ, and zeros are not stored.)"""
+    M = np.asarray(M, dtype=float)
+    out = np.zeros((M.shape[0], X.shape[1]))
+    with np.errstate(invalid="ignore", over="ignore", under="ignore"):
+        for j in range(M.shape[1]):
+            m, x = M[:, j:j + 1], X[j:j + 1, :]
+            out = out + np.where((m != 0) & (x != 0), m * x, 0.0)
+    return out

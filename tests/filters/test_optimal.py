@@ -289,3 +289,22 @@ def test_optimal_posterior_under_random_halfspace_relations_matches_the_polytope
     optimal = ss.optimal_filter(system, related, ys)[T]
     assert optimal.support_many(DIRECTIONS) == pytest.approx(oracle_support(vertices), abs=1e-6)
     assert optimal.contains(xs[T])
+
+
+def test_the_trajectory_rows_are_scipy_s_sparse_products_bit_for_bit():
+    # _assemble forms B·G_J and D·G_J densely; the rows must be the sparse product's, term order included.
+    import scipy.sparse as sp
+
+    from setsmooth.filters.optimal import _sparse_product
+
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        k = int(rng.integers(1, 7))
+        M, X = rng.normal(size=(3, k)) * 10.0 ** rng.integers(-3, 4), rng.normal(size=(k, 9))
+        for A in (M, X):
+            A[rng.random(A.shape) < 0.4] = 0.0
+        if rng.random() < 0.2:
+            X[0, 0] = np.inf  # 0·∞ must not appear where the sparse product has no term
+        sparse = (sp.csr_matrix(M) @ sp.csr_matrix(X)).toarray()
+        dense = _sparse_product(M, X)
+        assert np.array_equal(dense, sparse, equal_nan=True)
