@@ -207,8 +207,17 @@ def hull_geometry(points: np.ndarray) -> HullGeometry:
     Raises
     ------
     ValueError
-        When the hull has no interior in ℝⁿ (fewer than n + 1 affinely independent points), naming its
-        dimension: volume, centroid and uniform sampling need a full-dimensional set.
+        When the hull has no interior in ℝⁿ (fewer than n + 1 affinely independent points, up to
+        ``VERTEX_TOL`` relative to the set's own extent), naming its dimension: volume, centroid and
+        uniform sampling need a full-dimensional set.
+
+    Notes
+    -----
+    Everything is computed on the points centred at their mean. Qhull's precision is relative to the
+    largest coordinate it is given, so a thin set far from the origin (1 by 4·10⁻⁶ at 8.6·10⁹) is flat to it
+    however clearly it has an interior, and it raised a QhullError; centred, its extent is its own
+    scale. For the same reason the rank is decided relative to the largest singular value alone: with
+    a floor of 1, a set 10⁻⁴ wide and 10⁻⁸ thick (an LSU support at small noise) was called flat.
     """
     P = np.asarray(points, dtype=float)
     k, n = P.shape
@@ -216,19 +225,20 @@ def hull_geometry(points: np.ndarray) -> HullGeometry:
         raise ValueError("the set is empty")
     spread = P - P.mean(axis=0)
     s = np.linalg.svd(spread, compute_uv=False) if k > 1 else np.zeros(1)
-    rank = int(np.count_nonzero(s > tol.VERTEX_TOL * max(1.0, s.max(initial=0.0)))) if s.size else 0
+    rank = int(np.count_nonzero(s > tol.VERTEX_TOL * s.max(initial=0.0))) if s.size else 0
     if rank < n:
         raise ValueError(f"the set lies in an affine subspace of dimension {rank} < {n} (no interior): "
                          "it has no volume, centroid or uniform distribution in this space")
     if n == 1:
         lo, hi = P.min(), P.max()
         return HullGeometry(np.array([[lo], [hi]]), np.array([[[lo], [hi]]]), np.array([hi - lo]))
-    hull = ConvexHull(P)
+    hull = ConvexHull(spread)
     vertices = P[hull.vertices]
     inner = vertices.mean(axis=0)
     facets = P[hull.simplices]                                          # (s, n, n), triangulated
     simplices = np.concatenate([np.broadcast_to(inner, (facets.shape[0], 1, n)), facets], axis=1)
-    volumes = np.abs(np.linalg.det(facets - inner)) / math.factorial(n)
+    volumes = (np.abs(np.linalg.det(spread[hull.simplices] - spread[hull.vertices].mean(axis=0)))
+               / math.factorial(n))
     keep = volumes > 0
     return HullGeometry(vertices, simplices[keep], volumes[keep])
 

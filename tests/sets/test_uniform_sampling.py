@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 
@@ -47,6 +49,28 @@ def test_hull_geometry_moments_of_a_box_and_a_triangle_are_exact():
     tri = hull_geometry(np.array([[0, 0], [1, 0], [0, 1]], dtype=float))
     np.testing.assert_allclose(tri.centroid, [1 / 3, 1 / 3])
     np.testing.assert_allclose(tri.covariance, [[1 / 18, -1 / 36], [-1 / 36, 1 / 18]], atol=1e-12)
+
+
+def _parallelotope(edges: np.ndarray, offset: float) -> np.ndarray:
+    """The 2^n corners offset + Σ s_i e_i (s_i ∈ {0, 1}) and the centre: exactly representable here."""
+    signs = np.array(list(itertools.product([0.0, 1.0], repeat=len(edges))))
+    P = signs @ edges + offset
+    return np.vstack([P, offset + edges.sum(axis=0) / 2])
+
+
+@pytest.mark.parametrize("edges, offset", [
+    (np.array([[1.0, 1.0], [2.0 ** -18, -(2.0 ** -18)]]), 2.0 ** 33),   # Qhull: initial simplex is flat
+    (np.array([[1.0, 0.0, 1.0], [0.0, 1.0, 1.0], [2.0 ** -18, 2.0 ** -18, -(2.0 ** -18)]]), 2.0 ** 30),
+    (np.diag([2.0 ** -10, 2.0 ** -12, 2.0 ** -30]), 0.75),               # 1e-3 wide, 1e-9 thick
+])
+def test_a_thin_set_far_from_the_origin_or_small_has_its_volume_and_centroid(edges, offset):
+    # Each is thin but not flat relative to its own extent (4e-6, 4e-6, 1e-6). The first two, given to
+    # Qhull in raw coordinates, raised QhullError (its precision is relative to the largest coordinate);
+    # the third the rank test with a floor of 1 called flat.
+    geometry = hull_geometry(_parallelotope(edges, offset))
+    assert geometry.volume == pytest.approx(abs(np.linalg.det(edges)), rel=1e-9)
+    np.testing.assert_allclose(geometry.centroid, offset + edges.sum(axis=0) / 2, rtol=0,
+                               atol=8 * np.spacing(offset))
 
 
 def test_exact_samples_match_exact_area_fractions_in_2d():
