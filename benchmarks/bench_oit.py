@@ -7,12 +7,10 @@ seconds per step, "step only" and "step + certified interval hull", the ratios, 
 
 Part 2 (``--hull-methods``): the 2n support LPs of the OIT-CZ window, whose constraint matrix is the
 same every step and whose right-hand side b is new, solved per step by
-  * fresh  — ``Z.interval_hull(certified=True)`` on a new CZ (presolve, Clarabel, certificate);
-  * kept   — `ParametricSupport`: one Clarabel instance, data updates of b and the objective, the
-             weak-duality certificate (what `oit_cz_filter(hulls=True)` uses);
-  * warm   — HiGHS's dual simplex (``highspy``, a dev dependency), one kept model per direction
-             warm-started from its previous basis, certified the same way from its row duals;
-with the mean simplex pivots per warm LP.
+  * fresh  — ``Z.interval_hull(certified=True)`` on a new CZ (presolve, simplex, certificate);
+  * kept   — `ParametricSupport` (what `oit_cz_filter(hulls=True)` uses): one HiGHS model per
+             direction, the dual simplex method from its previous basis after the change of b, the
+             weak-duality certificate from its row duals; with the mean simplex pivots per LP.
 
 Usage: python benchmarks/bench_oit.py [--runs 3] [--steps 30] [--hull-methods]
 """
@@ -33,7 +31,6 @@ import numpy as np  # noqa: E402
 import setsmooth as ss  # noqa: E402
 from setsmooth import analysis  # noqa: E402
 from setsmooth.filters._window import Window  # noqa: E402
-from setsmooth.solvers.certify import certified_bound  # noqa: E402
 from setsmooth.solvers.parametric import ParametricSupport  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "paper_figures"))
@@ -62,11 +59,6 @@ def table(runs: int, steps: int) -> None:
 
 def hull_methods(steps: int) -> None:
     print(f"\nInterval hull of the OIT-CZ window, {steps} steps, CPU ms per step (2n certified support LPs)")
-    try:
-        import highspy
-    except ImportError:
-        highspy = None
-        print("(highspy not installed: the warm-started simplex is skipped)")
     for n in DIMENSIONS:
         rng = np.random.default_rng(n)
         drawn = analysis.random_observable_system(rng, n, n, n)
@@ -80,53 +72,16 @@ def hull_methods(steps: int) -> None:
         fresh = [window.estimate_from(*d).support_many(D, certified=True) for d in data]
         t_fresh = (time.process_time() - t) / len(data)
         engine = ParametricSupport(window.G, window.A, D, window.free(n))
+        engine.restart()
+        pivots = []
         t = time.process_time()
-        kept = [engine.values(*d) for d in data]
+        kept = []
+        for d in data:
+            kept.append(engine.values(*d))
+            pivots.extend(model.getInfo().simplex_iteration_count for model in engine._local.models)
         t_kept = (time.process_time() - t) / len(data)
-        line = (f"n = {n}: fresh {1e3 * t_fresh:8.1f}   kept {1e3 * t_kept:8.1f} "
-                f"(max |kept - fresh| {np.max(np.abs(np.array(kept) - np.array(fresh))):.1e})")
-        if highspy is not None:
-            t_warm, pivots, warm = _warm(highspy, window, D, data, engine)
-            line += (f"   warm {1e3 * t_warm:8.1f} ({pivots:.0f} pivots/LP, "
-                     f"max |warm - fresh| {np.max(np.abs(np.array(warm) - np.array(fresh))):.1e})")
-        print(line)
-
-
-def _warm(highspy, window, D, data, engine):
-    """HiGHS dual simplex, one model per direction kept warm across steps, certified from row duals."""
-    import scipy.sparse as sp
-
-    A = sp.csc_matrix(window.A)
-    nc, ng = A.shape
-    inf = highspy.kHighsInf
-    models = []
-    c0, b0, h0 = data[0]
-    for d in D:
-        model = highspy.Highs()
-        model.setOptionValue("output_flag", False)
-        lp = highspy.HighsLp()
-        lp.num_col_, lp.num_row_ = ng, nc
-        lp.col_cost_ = -(window.G.T @ d)
-        lp.col_lower_ = np.where(np.isfinite(h0), -h0, -inf)
-        lp.col_upper_ = np.where(np.isfinite(h0), h0, inf)
-        lp.row_lower_, lp.row_upper_ = b0, b0
-        lp.a_matrix_.format_ = highspy.MatrixFormat.kColwise
-        lp.a_matrix_.start_, lp.a_matrix_.index_, lp.a_matrix_.value_ = A.indptr, A.indices, A.data
-        model.passModel(lp)
-        models.append(model)
-    rows = np.arange(nc, dtype=np.int32)
-    out, pivots, count = [], 0, 0
-    t = time.process_time()
-    for c, b, h in data:
-        lam = np.empty((len(D), nc))
-        for j, model in enumerate(models):
-            model.changeRowsBounds(nc, rows, b, b)
-            model.run()
-            lam[j] = -np.asarray(model.getSolution().row_dual)  # HiGHS minimizes −gᵀξ
-            pivots += model.getInfo().simplex_iteration_count
-            count += 1
-        out.append(certified_bound(D, window.G, c, A, b, h, lam, engine._free_bound(b, h), engine._ops))
-    return (time.process_time() - t) / len(data), pivots / count, out
+        print(f"n = {n}: fresh {1e3 * t_fresh:8.1f}   kept {1e3 * t_kept:8.1f} ({np.mean(pivots):.0f} pivots/LP; "
+              f"max |kept - fresh| {np.max(np.abs(np.array(kept) - np.array(fresh))):.1e})")
 
 
 def main() -> None:

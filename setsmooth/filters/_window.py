@@ -15,7 +15,7 @@ half-widths and α as factor bounds). With the states eliminated as in (23) the 
 about the nominal trajectory x̄_0 = c_p, x̄_{j+1} = A x̄_j + B c_w + u_{i+j}. G and A depend on the
 system and δ̄ only, so they are built once: a step computes the nominal trajectory and b (O(δ̄ n²)
 flops) and wraps the five arrays, nothing else. Every window shares G and A, which is what lets the
-interval hulls reuse one solver instance (`setsmooth.solvers.parametric`).
+interval hulls share one engine of warm-started simplex models (`setsmooth.solvers.parametric`).
 
 Rounding. G, A, the nominal trajectory and b are computed in floating point, so the stored window is
 not exactly F_{k,k−δ̄}(Z). `Window.charged_data` returns, with (c, b, h), the rounding charges of

@@ -2,7 +2,7 @@
 
 Every interval hull the algorithm takes is certified (weak-duality upper bounds, `solvers.certify`), so
 the boxes T̂^ō, P_o·IH and the radius ℓ_k that the later steps build on are outer bounds in floating
-point; the windows' hulls share one solver instance per window structure
+point; the windows' hulls keep one warm-started simplex model per direction and window structure
 (`setsmooth.solvers.parametric.ParametricSupport`).
 """
 
@@ -169,6 +169,7 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
 
     if not detectable:
         window, engine = _kept(system, st, d, "observable", lambda: _observable_parts(system, d, n, eye2))
+        engine.restart()  # this run's answers from its own data (`ParametricSupport`)
         free = np.full(n, np.inf)
         for k in range(d, T + 1):
             t0 = perf_counter()
@@ -193,6 +194,8 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
     cond = float(np.linalg.norm(U, 2) * max(1.0, np.linalg.norm(Po, 2)))
     pad_unit = 64.0 * n * np.finfo(float).eps * cond
     first, later = _kept(system, st, d, "detectable", lambda: _detectable_parts(system, st, d, eye2))
+    for _, engine in (first, later):
+        engine.restart()
     BW = linear_map(system.E_at(0), system.W)
     win_c, win_r = _hull(linear_map(st.P_obar, BW), _pm(np.eye(n_obar)))  # IH(B̃_ō W)
     Aobar_power = np.eye(n_obar)

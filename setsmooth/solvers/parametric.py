@@ -2,38 +2,42 @@
 
 The OIT-CZ SMF's windows (stability paper (23)) all have the same generator and constraint matrices;
 only the right-hand side b (the measurements), the centre c and, for detectable systems, the finite
-factor bounds h change from step to step. `ParametricSupport` keeps one Clarabel instance for the
-whole run — the LP max{gᵀξ : Aξ = b, |ξ_B| ≤ h_B} with its constraint matrix set up once — and per
-step only replaces the right-hand side [b; h_B; h_B] and, per direction, the objective (Clarabel's
-data updates). Nothing is presolved or rebuilt per step.
+factor bounds h change from step to step. `ParametricSupport` keeps one HiGHS model per direction —
+the LP max{gᵀξ : Aξ = b, |ξ_B| ≤ h_B} with its constraint matrix and objective set up once — and per
+step changes only the row bounds b and the column bounds h, then re-solves by the dual simplex
+method from that direction's previous optimal basis: a change of b and h leaves a basis dual
+feasible (the objective did not change), so the dual method starts at once. Nothing is presolved
+or rebuilt per step.
+
+The warm bases are state of one run: `ParametricSupport.restart` drops them (the OIT-CZ loop calls
+it first), so a run's answers are a function of its own data, the same whatever ran before on the
+same engine; each thread keeps its own models.
 
 Soundness does not rest on the solver: every value returned is the weak-duality bound of
 `certify.certified_bound` evaluated at the solver's multipliers (corrected so that they cancel the
 free factors' reduced costs), an upper bound on the support value in floating point whatever the
-solver did. A direction whose solve does not end 'Solved' goes through the constrained zonotope's own
-verified path (`ConstrainedZonotope.support_many(certified=True)`), which settles infeasible and
-hard programs.
+solver did. A direction whose solve does not settle (`highs.SIMPLEX_TOLERANCES`, each rung capped in
+iterations, never in time) goes through the constrained zonotope's own verified path
+(`ConstrainedZonotope.support_many(certified=True)`), which settles infeasible and hard programs.
 
-Why not a warm-started simplex: from one window to the next every measurement in b changes, and the
-optimal active set of a direction was new at 99.2 % of 3,000 steps (n = 10) and 99.9 % (n = 20). A
-warm-started dual simplex (HiGHS, one kept model per direction, `benchmarks/bench_oit.py
---hull-methods`) needed 22 / 52 / 97 pivots per LP at n = 10 / 20 / 30 and took 13 / 90 / 396 ms of CPU
-per step against this instance's 13 / 130 / 632 ms (a fresh CZ solve: 20 / 160 / 696 ms): level at
-n = 10, 1.5× faster at n = 20–30. HiGHS's Python interface is only a development dependency here, so
-the kept interior-point instance stays the method.
+Why the dual simplex method and not the kept interior-point instance this module used before: from
+one window to the next the optimal active set of a direction changes at almost every step (99.2 %
+of 3,000 steps at n = 10), but the warm dual simplex method needs 22 / 52 / 97 pivots per LP at
+n = 10 / 20 / 30 (`benchmarks/bench_oit.py --hull-methods`), and an interior-point solve cannot
+start from the last answer at all.
 """
 
 from __future__ import annotations
 
-import clarabel
+import threading
+
 import numpy as np
 import scipy.sparse as sp
 
 from ..floating import U, gamma
-from . import clarabel_lp
 from .certify import FREE_BOUND_DENSE_MAX, certified_bound
-from .clarabel_lp import SolverError, _csc, _zero_cost
-from .instances import cached_instance
+from .clarabel_lp import SolverError, _csc
+from .highs import _DUAL, SIMPLEX_TOLERANCES, lp_model, rung_caps, set_rung, settled_point
 
 __all__ = ["ParametricSupport"]
 
@@ -68,7 +72,8 @@ class ParametricSupport:
         self.fin = np.flatnonzero(~self.free)
         nc, ng = self.A.shape
         self.nc, self.ng = nc, ng
-        self._q = -(self.D @ self.G)  # Clarabel minimizes: q = −Gᵀd, one row per direction
+        self._q = -(self.D @ self.G)  # HiGHS minimizes: q = −Gᵀd, one row per direction
+        self._local = threading.local()  # this thread's HiGHS models, one per direction
         self._ops = _DenseOperators(self.G, self.A)
         # What depends on A only is prepared once: the least-squares correction of the multipliers
         # on the free factors and the smallest eigenvalue of A_FᵀA_F behind their rigorous bound.
@@ -88,16 +93,18 @@ class ParametricSupport:
             self._rows = rows
             self._abs_ARB = abs(sp.csr_matrix(self.A)[rows][:, self.fin]).toarray()
 
-    def _solver(self, b0: np.ndarray) -> clarabel.DefaultSolver:
-        nf = self.fin.size
-        S = sp.csr_matrix((np.ones(nf), (np.arange(nf), self.fin)), shape=(nf, self.ng))
-        M = sp.vstack([self.A, S, -S]).tocsc()
-        cones = [clarabel.ZeroConeT(self.nc)] if self.nc else []
-        if nf:
-            cones.append(clarabel.NonnegativeConeT(2 * nf))
-        settings = clarabel_lp.settings()
-        settings.presolve_enable = False  # keeps the rows fixed, so that data updates are allowed
-        return clarabel.DefaultSolver(_zero_cost(self.ng), self._q[0].copy(), M, b0, cones, settings)
+    def restart(self) -> None:
+        """Drop this thread's warm bases: the next `values` solves every direction from scratch."""
+        self._local.models = None
+
+    def _models(self, b: np.ndarray, h: np.ndarray) -> list:
+        models = getattr(self._local, "models", None)
+        if models is None:
+            lower = np.where(self.free, -np.inf, -h)
+            models = self._local.models = [lp_model(self.A, b, b, lower, -lower) for _ in self._q]
+            for model, q in zip(models, self._q):
+                model.changeColsCost(self.ng, np.arange(self.ng, dtype=np.int32), q)
+        return models
 
     def values(self, c: np.ndarray, b: np.ndarray, h: np.ndarray, *, pad: np.ndarray | None = None,
                slack: np.ndarray | None = None, pad_free: np.ndarray | None = None,
@@ -122,20 +129,18 @@ class ParametricSupport:
         h = np.asarray(h, dtype=float)
         if not np.array_equal(np.isinf(h), self.free):
             raise ValueError("h must be infinite exactly on the free factors this engine was built for")
-        rhs = np.concatenate([b, h[self.fin], h[self.fin]])
-        solver = cached_instance(self, "clarabel", lambda: self._solver(rhs))
-        if self.nc or self.fin.size:
-            solver.update(b=rhs)
         K = self.D.shape[0]
         lam = np.zeros((K, self.nc))
         ok = np.zeros(K, dtype=bool)
-        for j in range(K):
-            solver.update(q=self._q[j])
-            sol = solver.solve()
-            if str(sol.status).split(".")[-1] in ("Solved", "AlmostSolved"):
-                z = np.asarray(sol.z)[:self.nc]
-                if np.all(np.isfinite(z)):
-                    lam[j], ok[j] = z, True
+        rows = np.arange(self.nc, dtype=np.int32)
+        fin = self.fin.astype(np.int32)
+        for j, model in enumerate(self._models(b, h)):
+            model.changeRowsBounds(self.nc, rows, b, b)
+            if fin.size:
+                model.changeColsBounds(fin.size, fin, -h[self.fin], h[self.fin])
+            settled = _warm_dual(model, self.nc + self.ng)
+            if settled is not None and np.all(np.isfinite(settled)):
+                lam[j], ok[j] = settled, True
         charges = {"pad": pad, "slack": slack, "pad_free": pad_free, "slack_free": slack_free}
         out = np.empty(K)
         if ok.any():
@@ -203,3 +208,17 @@ def _free_lam_min(A: sp.csc_matrix, free_cols: np.ndarray) -> float | None:
     gram_err = float(gamma(A.shape[0] + 2) * np.linalg.norm((absAF.T @ absAF).toarray()))
     eig_err = 8.0 * free_cols.size * U * np.linalg.norm(gram)
     return float(np.linalg.eigvalsh(gram)[0]) - gram_err - eig_err
+
+
+def _warm_dual(model, size: int) -> np.ndarray | None:
+    """The dual simplex method on ``model`` from its current basis through `SIMPLEX_TOLERANCES`
+    (a rung that does not settle is dropped with its basis: the next starts cold): the multipliers
+    λ = −y of the first rung that settles, or None (the basis dropped too)."""
+    for tolerance, cap in zip(SIMPLEX_TOLERANCES, rung_caps(size, len(SIMPLEX_TOLERANCES))):
+        set_rung(model, tolerance, cap, _DUAL)
+        model.run()
+        point = settled_point(model)
+        if point is not None:
+            return point[1]
+        model.clearSolver()
+    return None
