@@ -71,14 +71,13 @@ def hull_methods(steps: int) -> None:
         t = time.process_time()
         fresh = [window.estimate_from(*d).support_many(D, certified=True) for d in data]
         t_fresh = (time.process_time() - t) / len(data)
-        engine = ParametricSupport(window.G, window.A, D, window.free(n))
-        engine.restart()
+        engine = ParametricSupport(window.G, window.A, D, window.free(n)).session()
         pivots = []
         t = time.process_time()
         kept = []
         for d in data:
             kept.append(engine.values(*d))
-            pivots.extend(model.getInfo().simplex_iteration_count for model in engine._local.models)
+            pivots.extend(model.getInfo().simplex_iteration_count for model in engine.models)
         t_kept = (time.process_time() - t) / len(data)
         print(f"n = {n}: fresh {1e3 * t_fresh:8.1f}   kept {1e3 * t_kept:8.1f} ({np.mean(pivots):.0f} pivots/LP; "
               f"max |kept - fresh| {np.max(np.abs(np.array(kept) - np.array(fresh))):.1e})")

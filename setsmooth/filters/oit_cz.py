@@ -169,7 +169,7 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
 
     if not detectable:
         window, engine = _kept(system, st, d, "observable", lambda: _observable_parts(system, d, n, eye2))
-        engine.restart()  # this run's answers from its own data (`ParametricSupport`)
+        hulls = engine.session()  # this run's warm models (`ParametricSupport.session`)
         free = np.full(n, np.inf)
         for k in range(d, T + 1):
             t0 = perf_counter()
@@ -178,7 +178,7 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
             t1 = perf_counter()
             empty = False
             if want_hulls:
-                values = engine.values(c, b, h, **charges)
+                values = hulls.values(c, b, h, **charges)
                 empty = bool(np.isneginf(values).any())
                 if not empty:
                     lo[k], hi[k] = _bounds(values, n)
@@ -194,8 +194,8 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
     cond = float(np.linalg.norm(U, 2) * max(1.0, np.linalg.norm(Po, 2)))
     pad_unit = 64.0 * n * np.finfo(float).eps * cond
     first, later = _kept(system, st, d, "detectable", lambda: _detectable_parts(system, st, d, eye2))
-    for _, engine in (first, later):
-        engine.restart()
+    # This run's warm models (`ParametricSupport.session`), one set per window structure.
+    first, later = ((window, engine.session()) for window, engine in (first, later))
     BW = linear_map(system.E_at(0), system.W)
     win_c, win_r = _hull(linear_map(st.P_obar, BW), _pm(np.eye(n_obar)))  # IH(B̃_ō W)
     Aobar_power = np.eye(n_obar)
@@ -206,13 +206,13 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
         i = k - d
         if i < d:  # Line 8 with θ̄ = ∞ (Lemma 1) and T̂^ō_i of Line 6
             c_box, r_box = line6[i]
-            window, engine = first
+            window, hulls = first
             c_p = U @ np.concatenate([np.zeros(n_o), c_box])
             pad = pad_unit * float(np.abs(c_box).max(initial=0.0))
             h_p = np.concatenate([np.full(n_o, np.inf), r_box + pad])
         else:      # Line 8 with T̂^o = P_o·IH(Z_i) and T̂^ō_i = B_α_i[ĉ^ō_i]
             c_ball, a_ball = ball[i]
-            window, engine = later
+            window, hulls = later
             centre, radius = (hi[i] + lo[i]) / 2, (hi[i] - lo[i]) / 2
             c_p = U @ np.concatenate([Po @ centre, c_ball])
             pad = pad_unit * (float(np.abs(centre).max()) + float(np.abs(c_ball).max(initial=0.0)))
@@ -220,7 +220,7 @@ def run_oit_cz(system, X0, ys: np.ndarray, st: Structure, delta_bar: int, epsilo
         c, b, h, charges = window.charged_data(ys, k, c_p, h_p)
         Zk = window.estimate_from(c, b, h, **charges)
         estimates.append(Zk)
-        values = engine.values(c, b, h, **charges)
+        values = hulls.values(c, b, h, **charges)
         if np.isneginf(values).any():  # an empty window, and every later window starts from it
             estimates[-1] = EmptySet(n)
             step_s[k] = perf_counter() - t0

@@ -9,9 +9,9 @@ method from that direction's previous optimal basis: a change of b and h leaves 
 feasible (the objective did not change), so the dual method starts at once. Nothing is presolved
 or rebuilt per step.
 
-The warm bases are state of one run: `ParametricSupport.restart` drops them (the OIT-CZ loop calls
-it first), so a run's answers are a function of its own data, the same whatever ran before on the
-same engine; each thread keeps its own models.
+The warm bases are state of one run, held by a `ParametricSupport.session` that the run makes and
+drops (the OIT-CZ loop makes one per window structure), so a run's answers are a function of its own
+data, the same whatever ran before on the same engine and in whichever thread.
 
 Soundness does not rest on the solver: every value returned is the weak-duality bound of
 `certify.certified_bound` evaluated at the solver's multipliers (corrected so that they cancel the
@@ -29,8 +29,6 @@ start from the last answer at all.
 
 from __future__ import annotations
 
-import threading
-
 import numpy as np
 import scipy.sparse as sp
 
@@ -39,7 +37,7 @@ from .certify import FREE_BOUND_DENSE_MAX, certified_bound
 from .clarabel_lp import SolverError, _csc
 from .highs import _DUAL, SIMPLEX_TOLERANCES, lp_model, rung_caps, set_rung, settled_point
 
-__all__ = ["ParametricSupport"]
+__all__ = ["ParametricSupport", "WarmSession"]
 
 
 class ParametricSupport:
@@ -73,7 +71,6 @@ class ParametricSupport:
         nc, ng = self.A.shape
         self.nc, self.ng = nc, ng
         self._q = -(self.D @ self.G)  # HiGHS minimizes: q = −Gᵀd, one row per direction
-        self._local = threading.local()  # this thread's HiGHS models, one per direction
         self._ops = _DenseOperators(self.G, self.A)
         # What depends on A only is prepared once: the least-squares correction of the multipliers
         # on the free factors and the smallest eigenvalue of A_FᵀA_F behind their rigorous bound.
@@ -93,67 +90,14 @@ class ParametricSupport:
             self._rows = rows
             self._abs_ARB = abs(sp.csr_matrix(self.A)[rows][:, self.fin]).toarray()
 
-    def restart(self) -> None:
-        """Drop this thread's warm bases: the next `values` solves every direction from scratch."""
-        self._local.models = None
+    def session(self) -> "WarmSession":
+        """A run's warm models: its `WarmSession.values` re-solve each step from the last step's
+        bases. One thread uses a session at a time."""
+        return WarmSession(self)
 
-    def _models(self, b: np.ndarray, h: np.ndarray) -> list:
-        models = getattr(self._local, "models", None)
-        if models is None:
-            lower = np.where(self.free, -np.inf, -h)
-            models = self._local.models = [lp_model(self.A, b, b, lower, -lower) for _ in self._q]
-            for model, q in zip(models, self._q):
-                model.changeColsCost(self.ng, np.arange(self.ng, dtype=np.int32), q)
-        return models
-
-    def values(self, c: np.ndarray, b: np.ndarray, h: np.ndarray, *, pad: np.ndarray | None = None,
-               slack: np.ndarray | None = None, pad_free: np.ndarray | None = None,
-               slack_free: np.ndarray | None = None) -> np.ndarray:
-        """Upper bounds on h_Z(d_j), j = 1..K, for Z = Z(G, c, A, b, h) (certified).
-
-        Parameters
-        ----------
-        c : ndarray, shape (n,)
-        b : ndarray, shape (nc,)
-        h : ndarray, shape (ng,)
-            Finite exactly where ``free`` is False.
-        pad, slack, pad_free, slack_free : ndarray, optional
-            Rounding charges (`setsmooth.sets.rounding`): the bounds then hold for the exact set the
-            stored one encloses (e.g. `setsmooth.filters._window.Window.charged_data`).
-
-        Returns
-        -------
-        ndarray, shape (K,)
-            −inf for every direction when Z is empty.
-        """
-        h = np.asarray(h, dtype=float)
-        if not np.array_equal(np.isinf(h), self.free):
-            raise ValueError("h must be infinite exactly on the free factors this engine was built for")
-        K = self.D.shape[0]
-        lam = np.zeros((K, self.nc))
-        ok = np.zeros(K, dtype=bool)
-        rows = np.arange(self.nc, dtype=np.int32)
-        fin = self.fin.astype(np.int32)
-        for j, model in enumerate(self._models(b, h)):
-            model.changeRowsBounds(self.nc, rows, b, b)
-            if fin.size:
-                model.changeColsBounds(fin.size, fin, -h[self.fin], h[self.fin])
-            settled = _warm_dual(model, self.nc + self.ng)
-            if settled is not None and np.all(np.isfinite(settled)):
-                lam[j], ok[j] = settled, True
-        charges = {"pad": pad, "slack": slack, "pad_free": pad_free, "slack_free": slack_free}
-        out = np.empty(K)
-        if ok.any():
-            try:
-                out[ok] = self._certify(c, b, h, lam[ok], ok, charges)
-            except SolverError:  # an uncertifiable multiplier: the verified path decides
-                ok[:] = False
-        if not ok.all():
-            from ..sets.constrained_zonotope import ConstrainedZonotope
-
-            Z = ConstrainedZonotope._trusted(self.G, c, self.A, b, h, **charges)
-            out[~ok] = Z.support_many(self.D[~ok], certified=True)
-        return out
+    def values(self, c: np.ndarray, b: np.ndarray, h: np.ndarray, **charges) -> np.ndarray:
+        """`WarmSession.values` of a new session: one step's bounds, every direction from scratch."""
+        return self.session().values(c, b, h, **charges)
 
     def _certify(self, c, b, h, lam, ok, charges: dict) -> np.ndarray:
         D = self.D[ok]
@@ -184,6 +128,74 @@ class ParametricSupport:
                 return None
         bound = rhs / sigma * (1.0 + gamma(8))
         return float(bound) if np.isfinite(bound) else None
+
+
+class WarmSession:
+    """One HiGHS model per direction of a `ParametricSupport`, kept from step to step of one run."""
+
+    def __init__(self, engine: ParametricSupport):
+        self.engine = engine
+        self.models: list | None = None
+
+    def _models(self, b: np.ndarray, h: np.ndarray) -> list:
+        e = self.engine
+        if self.models is None:
+            lower = np.where(e.free, -np.inf, -h)
+            self.models = [lp_model(e.A, b, b, lower, -lower) for _ in e._q]
+            for model, q in zip(self.models, e._q):
+                model.changeColsCost(e.ng, np.arange(e.ng, dtype=np.int32), q)
+        return self.models
+
+    def values(self, c: np.ndarray, b: np.ndarray, h: np.ndarray, *, pad: np.ndarray | None = None,
+               slack: np.ndarray | None = None, pad_free: np.ndarray | None = None,
+               slack_free: np.ndarray | None = None) -> np.ndarray:
+        """Upper bounds on h_Z(d_j), j = 1..K, for Z = Z(G, c, A, b, h) (certified), each direction
+        re-solved from its basis of the last call (the dual simplex method after a change of b and h).
+
+        Parameters
+        ----------
+        c : ndarray, shape (n,)
+        b : ndarray, shape (nc,)
+        h : ndarray, shape (ng,)
+            Finite exactly where ``free`` is False.
+        pad, slack, pad_free, slack_free : ndarray, optional
+            Rounding charges (`setsmooth.sets.rounding`): the bounds then hold for the exact set the
+            stored one encloses (e.g. `setsmooth.filters._window.Window.charged_data`).
+
+        Returns
+        -------
+        ndarray, shape (K,)
+            −inf for every direction when Z is empty.
+        """
+        e = self.engine
+        h = np.asarray(h, dtype=float)
+        if not np.array_equal(np.isinf(h), e.free):
+            raise ValueError("h must be infinite exactly on the free factors this engine was built for")
+        K = e.D.shape[0]
+        lam = np.zeros((K, e.nc))
+        ok = np.zeros(K, dtype=bool)
+        rows = np.arange(e.nc, dtype=np.int32)
+        fin = e.fin.astype(np.int32)
+        for j, model in enumerate(self._models(b, h)):
+            model.changeRowsBounds(e.nc, rows, b, b)
+            if fin.size:
+                model.changeColsBounds(fin.size, fin, -h[e.fin], h[e.fin])
+            settled = _warm_dual(model, e.nc + e.ng)
+            if settled is not None and np.all(np.isfinite(settled)):
+                lam[j], ok[j] = settled, True
+        charges = {"pad": pad, "slack": slack, "pad_free": pad_free, "slack_free": slack_free}
+        out = np.empty(K)
+        if ok.any():
+            try:
+                out[ok] = e._certify(c, b, h, lam[ok], ok, charges)
+            except SolverError:  # an uncertifiable multiplier: the verified path decides
+                ok[:] = False
+        if not ok.all():
+            from ..sets.constrained_zonotope import ConstrainedZonotope
+
+            Z = ConstrainedZonotope._trusted(e.G, c, e.A, b, h, **charges)
+            out[~ok] = Z.support_many(e.D[~ok], certified=True)
+        return out
 
 
 class _DenseOperators:
