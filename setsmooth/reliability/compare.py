@@ -4,9 +4,11 @@ Estimators: ``filter`` (`classical_filter`, hulls of ⟦x_k | y_0:k⟧), ``recur
 (`optimal_smoother` with that method, hulls of ⟦x_k | y_0:T⟧), each called as a user calls it: the
 recursion filters again for its own (recursion-form) posteriors rather than reading the filter's
 trajectory views, which it also accepts but smooths about twice as slowly (case 000: 41 s for
-22 s). Each hull is computed plain (``interval_hull(certified=False)``: the solver's values) and
-certified (``interval_hull(certified=True)``). The default ``interval_hull()`` is the certified
-one wherever a certificate exists and the plain one elsewhere, so these two cover it.
+22 s). The hulls are the estimate's own, as a user reads them through ``lo``/``hi``
+(`SetEstimates.interval_hulls`: along time for the filter, a direction at a time across the sets
+for the trajectory smoother), plain (``certified=False``: the solver's values) and certified
+(``certified=True``). The default is the certified one wherever a certificate exists and the plain
+one elsewhere, so these two cover it.
 
 What counts (per estimator and run; a run is one case × one estimator):
 
@@ -278,11 +280,10 @@ def compare_case(case: Case, exact: dict | None = None, estimators=ESTIMATORS) -
             sets = _estimate(case, estimator)
             stage = "contains"
             outcome.rejected = int(np.count_nonzero(~sets.contains_trajectory(case.xs[:len(sets)])))
-            for S in sets:
-                stage = "hull"
-                plain.append(_bounds(S.interval_hull(certified=False), n))
-                stage = "certified"
-                certified.append(_bounds(S.interval_hull(certified=True), n))
+            stage = "hull"
+            plain = [_bounds(h, n) for h in sets.interval_hulls(certified=False)]
+            stage = "certified"
+            certified = [_bounds(h, n) for h in sets.interval_hulls(certified=True)]
         except ss.SolverError as exc:
             outcome.error, outcome.status = f"SolverError({exc.status})", exc.status
             outcome.stage, outcome.message = stage, str(exc)[:200]

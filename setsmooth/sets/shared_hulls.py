@@ -52,13 +52,23 @@ def shared_interval_hulls(sets: list[ConvexSet], certified: bool | None, *, prog
               leave=False) as bar:
         supports = shared_supports([S._program for S in sets], np.vstack([eye, -eye]), certified,
                                    bar.update, workers)
-    if supports is None or any(np.isneginf(values).any() for values in supports):
+    if supports is None or any(np.isneginf(v).any() or (u is not None and np.isneginf(u).any())
+                               for v, u in supports):
         return None
     hulls = []
-    for S, values in zip(sets, supports):
-        kept = S.__dict__.setdefault("_interval_hulls", {})
-        hull = kept.setdefault(key, S._box_of_supports(values, n))  # a hull asked before stays
+    for S, (values, bounds) in zip(sets, supports):
+        # As `ConstrainedZonotope._interval_hulls_at_once`: the plain hull's solves also certify
+        # it; certified=True is kept only where a sound bound exists (else it raises on the set's
+        # own path).
         if certified is True:
-            kept.setdefault(("auto", None), hull)
-        hulls.append(hull)
+            found = dict.fromkeys((True, None), S._box_of_supports(bounds, n))
+        else:
+            found = {False: S._box_of_supports(values, n)}
+            found[None] = found[False] if bounds is None else S._box_of_supports(bounds, n)
+            if bounds is not None:
+                found[True] = found[None]
+        kept = S.__dict__.setdefault("_interval_hulls", {})
+        for flag, hull in found.items():
+            kept.setdefault(("auto", flag), hull)  # a hull asked before stays
+        hulls.append(kept[key])
     return hulls

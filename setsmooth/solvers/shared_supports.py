@@ -1,20 +1,21 @@
 """Support values of many constrained zonotopes over one factor set, solved a direction at a time.
 
 The smoothed ranges of a data set are the projections x_k of one trajectory set: 601 programs at
-T = 600 that differ only in G (which state they read), over one presolved factor set and one kept
-simplex model. Solved set by set, each set's first direction starts from the program's feasible
-basis (a batch is one support call, `warm_simplex`), and the maximizer of x_k along e_j is found
-some 24 pivots away on average. Solved *direction by direction across the sets* — a chain per
-direction, e_j at k = 0, 1, …, T — each LP starts from the optimum of the same direction one step
-earlier, whose trajectory differs from the new one near k only (8.4 pivots on average at T = 600).
-The sets' certificates and brackets are then checked set by set as `CZProgram.support` checks them
-(vectorized over a set's directions), from the same solves.
+T = 600 that differ only in G (which state they read), over one presolved factor set. Solved set by
+set, each set's first direction starts from the program's feasible basis (a batch is one support
+call, `warm_simplex`), and the maximizer of x_k along e_j is found some 24 pivots away on average.
+Here every direction is a *chain*: e_j at k = 0, 1, …, T, each LP warm-started from the optimum of
+the same direction one step earlier, whose trajectory differs from the new one near k only (8.4
+pivots on average at T = 600). Each chain is a `Batch` with a simplex model of its own, starting
+from the program's feasible basis; the chains advance in step, a set at a time, and each set's
+certificates and brackets are checked as `CZProgram.support` checks them (vectorized over its
+directions) before the next set is solved, so only one set's factors and multipliers are held.
 
-Each chain is one `Batch`: its answers are a function of the programs and the direction alone, the
-same in every thread and whatever was queried before, so the chains can run in threads. They agree
-with each set's own `CZProgram.support` to the accuracy its check accepts
-(`tolerances.SUPPORT_GAP_TOL` of the width), not bit for bit: a degenerate LP's optimal vertex
-depends on where the simplex method starts. The certified values are weak-duality bounds either way.
+A chain's answers are a function of the programs and its direction alone, so the chains of a step
+can run in threads with the same answers, bit for bit. They agree with each set's own
+`CZProgram.support` to the accuracy its check accepts (`tolerances.SUPPORT_GAP_TOL` of the width),
+not bit for bit: a degenerate LP's optimal vertex depends on where the simplex method starts. The
+certified values are weak-duality bounds either way.
 """
 
 from __future__ import annotations
@@ -32,9 +33,9 @@ __all__ = ["shared_supports"]
 
 def shared_supports(programs: list[CZProgram], D: np.ndarray, certified: bool | None,
                     tick: Callable[[int], object] | None = None, workers: int = 1
-                    ) -> list[np.ndarray] | None:
-    """``[program.support(D, certified)[0] for program in programs]`` from one chain of solves per
-    direction.
+                    ) -> list[tuple[np.ndarray, np.ndarray | None]] | None:
+    """Every program's support values and certified bounds (`CZProgram.support_and_bounds`, or
+    `CZProgram.support` with ``certified=True``) from one chain of solves per direction.
 
     Parameters
     ----------
@@ -43,17 +44,19 @@ def shared_supports(programs: list[CZProgram], D: np.ndarray, certified: bool | 
     D : ndarray, shape (k, n)
         The directions, the same for every program.
     certified : bool or None
-        As in `CZProgram.support`.
+        True: every bound must exist (`SolverError` otherwise), and the last attempt's answer is
+        taken where none settles; False or None: as `CZProgram.support_and_bounds`.
     tick : callable, optional
         Called with 1 after each program's objective is solved (a progress bar's ``update``).
     workers : int
-        Threads that share the k chains (each thread builds its own solver instances,
-        `solvers.instances`); the answers are the same, bit for bit, for every count.
+        Threads that share the k chains' solves of each step; the answers are the same, bit for
+        bit, for every count.
 
     Returns
     -------
-    list of ndarray, shape (k,) each, or None
-        None when the factor set is empty or infeasible: the caller asks each program alone, which
+    list of (values, bounds) or None
+        Per program, the solver's values and the certified bounds (shape (k,) each; bounds None
+        where no sound bound exists, as in `CZProgram.support_and_bounds`). None when the factor set is empty or infeasible: the caller asks each program alone, which
         settles what an empty stored set means (`ConstrainedZonotope._support`).
 
     Raises
@@ -72,37 +75,41 @@ def shared_supports(programs: list[CZProgram], D: np.ndarray, certified: bool | 
         return None
     must = certified is True
     objectives = [p._objectives(D) for p in programs]
-
-    def chain(j: int):
-        return _chain(programs, objectives, j, must, tick)
-
-    if workers > 1:
-        with ThreadPoolExecutor(max_workers=workers) as pool:
-            chains = list(pool.map(chain, range(D.shape[0])))
-    else:
-        chains = [chain(j) for j in range(D.shape[0])]
-    if any(c is None for c in chains):
-        return None
+    # One chain per direction, each a batch with its own warm model (made here, in this thread).
+    chains = [Batch(np.stack([GtD[j] for GtD, _, _ in objectives]), own_model=True)
+              for j in range(D.shape[0])]
+    for chain in chains:
+        chain.model(factors.presolved)
+    pool = ThreadPoolExecutor(max_workers=workers) if workers > 1 else None
     out = []
-    for i, (p, (GtD, _, _)) in enumerate(zip(programs, objectives)):
-        xi = np.stack([c[0][i] for c in chains])
-        lam = np.stack([c[1][i] for c in chains])
-        (values, _, _, _), bounds = p._verified(D, p._collected(D, GtD, xi, lam), must)
-        out.append(values if certified is False or bounds is None else bounds)
+    try:
+        # The chains advance in step, a program at a time, so that only one program's factors
+        # and multipliers are held (O(T) memory, not O(T²)).
+        for p, objective in zip(programs, objectives):
+            solved = _step(p, objective, chains, must, pool)
+            if solved is None:
+                return None
+            if tick is not None:
+                tick(len(chains))
+            (values, _, _, _), bounds = p._verified(D, p._collected(D, objective[0], *solved), must)
+            out.append((values, bounds))
+    finally:
+        if pool is not None:
+            pool.shutdown()
     return out
 
 
-def _chain(programs: list[CZProgram], objectives: list, j: int, must: bool, tick
-           ) -> tuple[np.ndarray, np.ndarray] | None:
-    """Direction j of every program, in order, as one batch: (factors, multipliers) of shape
-    (programs, ng) and (programs, nc), or None when the factor set is infeasible."""
-    p0 = programs[0]
-    batch = Batch(np.stack([GtD[j] for GtD, _, _ in objectives]))
-    xi = np.full((len(programs), p0.ng), np.nan)
-    lam = np.full((len(programs), p0.nc), np.nan)
-    for i, (p, (GtD, magnitude, purpose)) in enumerate(zip(programs, objectives)):
-        if not p._maximize(GtD[j], magnitude[j], must, True, purpose, batch, xi[i], lam[i]):
-            return None
-        if tick is not None:
-            tick(1)
-    return xi, lam
+def _step(p: CZProgram, objective: tuple, chains: list[Batch], must: bool,
+          pool: ThreadPoolExecutor | None) -> tuple[np.ndarray, np.ndarray] | None:
+    """Program ``p``'s objective j solved on chain j, for every j (in the pool's threads if any):
+    its factors and multipliers, shapes (k, ng) and (k, nc); None when the factor set is
+    infeasible."""
+    GtD, magnitude, purpose = objective
+    k = len(chains)
+    xi, lam = np.full((k, p.ng), np.nan), np.full((k, p.nc), np.nan)
+
+    def solve(j: int) -> bool:
+        return p._maximize(GtD[j], magnitude[j], must, True, purpose, chains[j], xi[j], lam[j])
+
+    settled = list(pool.map(solve, range(k))) if pool is not None else [solve(j) for j in range(k)]
+    return (xi, lam) if all(settled) else None

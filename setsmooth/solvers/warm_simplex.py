@@ -57,10 +57,25 @@ class Batch:
     ----------
     objectives : ndarray, shape (k, ng)
         The maximized objectives on the original factors, in the order they will be asked.
+    own_model : bool
+        Solve on a model of the batch's own (a twin of the thread's kept one, starting from the
+        same feasible basis) instead of the kept one: for batches asked in turn, each continuing
+        from its own last optimum (`shared_supports`'s chains). It lives as long as the batch.
     """
 
-    def __init__(self, objectives: np.ndarray):
+    def __init__(self, objectives: np.ndarray, *, own_model: bool = False):
         self.objectives = objectives
+        self._own: dict | None = {} if own_model else None
+
+    def model(self, pre) -> "WarmSimplex":
+        """The warm model of the presolved program ``pre`` that this batch's solves use."""
+        kept = cached_instance(pre, WARM_MODEL_KEY, lambda: WarmSimplex(pre.A, pre.b, pre.bounded))
+        if self._own is None:
+            return kept
+        own = self._own.get(id(pre))
+        if own is None or own[0] is not pre:
+            own = self._own[id(pre)] = (pre, kept.twin())
+        return own[1]
 
 #: HiGHS's simplex variant for a solve from a primal feasible basis (the batch's start, the last
 #: optimum): the primal method, about 10× faster there than the dual one, the variant of every cold
@@ -138,6 +153,15 @@ class WarmSimplex:
                 break
         h.setOptionValue("simplex_scale_strategy", self._scaling)
         return basis
+
+    def twin(self) -> "WarmSimplex":
+        """A model of the same program whose batches start from this one's feasible basis (found
+        here first if it is not yet)."""
+        if not self._started:
+            self._start, self._started = self._feasible_basis(), True
+        other = WarmSimplex(*self._data)
+        other._start, other._started = self._start, True
+        return other
 
     def _restart(self) -> None:
         """Back to the batch's start: the program's feasible basis, or a cold start when it has
@@ -247,7 +271,8 @@ def checked_simplex(pre, q: np.ndarray, batch: object
                     ) -> tuple[str, np.ndarray, np.ndarray, float]:
     """`simplex` and the answer's `Presolved.checked_gap` (inf when it is not an optimum or fails
     the check), so that the caller need not check it again."""
-    model = cached_instance(pre, WARM_MODEL_KEY, lambda: WarmSimplex(pre.A, pre.b, pre.bounded))
+    model = (batch.model(pre) if isinstance(batch, Batch) else
+             cached_instance(pre, WARM_MODEL_KEY, lambda: WarmSimplex(pre.A, pre.b, pre.bounded)))
     checked = model.block_answer(pre, q, batch) if isinstance(batch, Batch) else None
     if checked is not None and checked[3] <= tol.ACCURATE_GAP_TOL:
         return checked
