@@ -212,6 +212,14 @@ class _Triplets:
         self.cols.append((c[None, :] + col0 + col_step * shifts[:, None]).ravel())
         self.vals.append(np.tile(v, times))
 
+    def put_blocks(self, row0: int, col0: int, blocks: np.ndarray, row_step: int, col_step: int) -> None:
+        """Place the dense ``blocks[j]`` (an array of shape (k, r, c)) with its top-left corner at
+        (row0 + j·row_step, col0 + j·col_step), j = 0..k−1 (a block diagonal of distinct blocks)."""
+        j, r, c = np.nonzero(blocks)
+        self.rows.append(r + row0 + row_step * j)
+        self.cols.append(c + col0 + col_step * j)
+        self.vals.append(blocks[j, r, c])
+
     def to_csc(self, shape: tuple[int, int]) -> sp.csc_matrix:
         rows = np.concatenate(self.rows) if self.rows else np.zeros(0, int)
         cols = np.concatenate(self.cols) if self.cols else np.zeros(0, int)
@@ -246,7 +254,6 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
     rhs.append(np.tile(Zv.b, steps + 1))
     row += (steps + 1) * Zv.nc
 
-    eye = np.eye(n)
     nominal = np.empty((steps + 1, n))  # x̄_start..x̄_stop, the CZ's centre
     nominal[0] = Z0.c
     # The rows' rounding slack (`setsmooth.sets.rounding`): the operands' own (their rows, and their
@@ -257,47 +264,56 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
     # per unit of ‖ξ_F‖∞, where an operand's free columns were rounded (none in the estimators)
     slack_free = [rounding.zeros_or(Z0.slack_free, Z0.nc), np.tile(rounding.zeros_or(Zw.slack_free, Zw.nc), steps),
                   np.tile(rounding.zeros_or(Zv.slack_free, Zv.nc), steps + 1), rounding.zeros_or(Z0.pad_free, n)]
-    Bw_charge = Dv_charge = None
     # x_start ∈ prior
-    A.put(row, 0, eye)
+    A.put(row, 0, np.eye(n))
     A.put(row, col_x0, -Z0.G)
     rhs.append(np.zeros(n))
     row += n
-    # dynamics
-    Gw = _dense(Zw.G)
-    residuals, charges = [], []  # per row block: the residual's terms and the products' charge
-    for j in range(steps):
-        k = start + j
-        Bk, Ak, uk = system.E_at(k), system.A_at(k), system.input_term(k)
+    Gw, Gv = _dense(Zw.G), _dense(Zv.G)
+    # The matrices of every step (one array each, repeated where the system does not vary), the
+    # nominal trajectory and the measurement rows' right-hand sides.
+    dyn = [(system.A_at(k), system.E_at(k), system.input_term(k)) for k in range(start, stop)]
+    for j, (Ak, Bk, uk) in enumerate(dyn):
         nominal[j + 1] = Ak @ nominal[j] + Bk @ Zw.c + uk
-        A.put(row, (j + 1) * n, eye)
-        A.put(row, j * n, -Ak)
-        A.put(row, col_w + j * Zw.ng, -(Bk @ Gw))
-        rhs.append(np.zeros(n))
-        # x_{j+1} − A x_j − E G_w ξ_w − E e_w = A x̄_j + E c_w + u − x̄_{j+1}: the nominal's error,
-        # bounded as accurately as in twice the working precision (all rows in one pass below).
-        residuals.append([(Ak, nominal[j]), (Bk, Zw.c), (np.ones(n), uk), (-np.ones(n), nominal[j + 1])])
-        if Bw_charge is None or "E" in system.time_varying:
-            Bw_charge = _product_charge(Bk, Gw, Zw)
-        charges.append(Bw_charge[0])
-        slack_free.append(Bw_charge[1])
-        row += n
+    meas = [(system.F_at(k), system.C_at(k)) for k in range(start, stop + 1)]
+    b_meas = np.array([ys[start + j] - Dk @ Zv.c - Ck @ nominal[j] for j, (Dk, Ck) in enumerate(meas)])
+    b_meas = b_meas.reshape(steps + 1, m)
+    # dynamics: x_{j+1} − A x_j − E G_w ξ_w − E e_w = A x̄_j + E c_w + u − x̄_{j+1}, the nominal's
+    # error bounded as accurately as in twice the working precision (all rows in one pass below)
+    As = np.array([Ak for Ak, _, _ in dyn]).reshape(steps, n, n)
+    Bs = np.array([Bk for _, Bk, _ in dyn]).reshape(steps, n, Zw.c.size)
+    A.put_blocks(row, n, np.broadcast_to(np.eye(n), (steps, n, n)), n, n)
+    A.put_blocks(row, 0, -As, n, n)
+    A.put_blocks(row, col_w, -np.array([Bk @ Gw for Bk in Bs]).reshape(steps, n, Zw.ng), n, Zw.ng)
+    rhs.append(np.zeros(steps * n))
+    row += steps * n
     # measurements
-    Gv = _dense(Zv.G)
-    for j in range(steps + 1):
-        k = start + j
-        Dk, Ck = system.F_at(k), system.C_at(k)
-        A.put(row, j * n, Ck)
-        A.put(row, col_v + j * Zv.ng, Dk @ Gv)
-        rhs.append(ys[k] - Dk @ Zv.c - Ck @ nominal[j])
-        residuals.append([(np.ones(m), ys[k]), (-Dk, Zv.c), (-Ck, nominal[j]), (-np.ones(m), rhs[-1])])
-        if Dv_charge is None or "F" in system.time_varying:
-            Dv_charge = _product_charge(Dk, Gv, Zv)
-        charges.append(Dv_charge[0])
-        slack_free.append(Dv_charge[1])
-        row += m
-    slack.extend(rounding.add(error, charge)
-                 for error, charge in zip(rounding.residual_bounds(residuals), charges))
+    Ds = np.array([Dk for Dk, _ in meas]).reshape(steps + 1, m, Zv.c.size)
+    Cs = np.array([Ck for _, Ck in meas]).reshape(steps + 1, m, n)
+    A.put_blocks(row, 0, Cs, m, n)
+    A.put_blocks(row, col_v, np.array([Dk @ Gv for Dk in Ds]), m, Zv.ng)
+    rhs.append(b_meas.reshape(-1))
+    row += (steps + 1) * m
+    # the residuals' terms, row by row in the order of `rounding.residual_bound`'s pairs
+    us = np.array([uk for _, _, uk in dyn]).reshape(steps, n)
+    dyn_terms = (np.concatenate([As, Bs, np.ones((steps, n, 1)), -np.ones((steps, n, 1))], axis=2),
+                 np.concatenate([np.broadcast_to(nominal[:-1, None, :], (steps, n, n)),
+                                 np.broadcast_to(Zw.c, (steps, n, Zw.c.size)), us[:, :, None],
+                                 nominal[1:, :, None]], axis=2))
+    meas_terms = (np.concatenate([np.ones((steps + 1, m, 1)), -Ds, -Cs, -np.ones((steps + 1, m, 1))],
+                                 axis=2),
+                  np.concatenate([ys[start:stop + 1, :, None],
+                                  np.broadcast_to(Zv.c, (steps + 1, m, Zv.c.size)),
+                                  np.broadcast_to(nominal[:, None, :], (steps + 1, m, n)),
+                                  b_meas[:, :, None]], axis=2))
+    errors = [rounding.row_sums_bound(X.reshape(-1, X.shape[2]), Y.reshape(-1, Y.shape[2]))
+              for X, Y in (dyn_terms, meas_terms)]
+    # the products' charges, once per step where the system varies
+    Bw = _step_charges(Bs, Gw, Zw, "E" in system.time_varying)
+    Dv = _step_charges(Ds, Gv, Zv, "F" in system.time_varying)
+    slack.append(rounding.add(errors[0], Bw[0].reshape(-1)))
+    slack.append(rounding.add(errors[1], Dv[0].reshape(-1)))
+    slack_free.extend([Bw[1].reshape(-1), Dv[1].reshape(-1)])
 
     A_matrix = A.to_csc((row, n_factors))
     b = np.concatenate(rhs)
@@ -308,6 +324,18 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
     # The factor set is created now, so that every projection shares one.
     return ConstrainedZonotope._trusted(G, nominal.reshape(-1), A_matrix, b, h,
                                         TrajectoryFactors(A_matrix, b, h, slack, slack_free))
+
+
+def _step_charges(Ms: np.ndarray, G: np.ndarray, Z: ConstrainedZonotope, varying: bool
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """`_product_charge` of every step's matrix ``Ms[j]``, computed once when the matrix does not
+    vary: arrays of shape (steps, rows) each."""
+    if not varying or Ms.shape[0] < 2:
+        charge, free = _product_charge(Ms[0], G, Z) if Ms.shape[0] else (np.zeros(0), np.zeros(0))
+        return (np.broadcast_to(charge, (Ms.shape[0], charge.size)),
+                np.broadcast_to(free, (Ms.shape[0], free.size)))
+    pairs = [_product_charge(M, G, Z) for M in Ms]
+    return np.array([c for c, _ in pairs]), np.array([f for _, f in pairs])
 
 
 def _product_charge(M: np.ndarray, G: np.ndarray, Z: ConstrainedZonotope
