@@ -19,6 +19,8 @@ Gram matrix is **banded** (half-bandwidth < 2n). There the bound costs O(nF):
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import scipy.sparse as sp
 from scipy.linalg import LinAlgError, cholesky_banded
@@ -54,7 +56,21 @@ def gram_lower_bound(AF: sp.spmatrix) -> float | None:
         A positive lower bound, or None when the Gram matrix is not banded (half-bandwidth above
         `BANDED_MAX_BANDWIDTH`), not positive definite to working accuracy, or not proven so.
     """
-    AF = sp.csc_matrix(AF)
+    AF = sp.csc_matrix(AF, copy=True)
+    AF.sum_duplicates()
+    # Memoized on the matrix itself (exactly: its canonical CSC arrays): the windows of one length
+    # along time share their states' columns, outer and inner bracket alike, so the bound is computed
+    # once per window shape.
+    key = (AF.shape, AF.indptr.astype(np.int64).tobytes(), AF.indices.astype(np.int64).tobytes(),
+           AF.data.tobytes())
+    return _gram_lower_bound(*key)
+
+
+@functools.lru_cache(maxsize=16)
+def _gram_lower_bound(shape: tuple[int, int], indptr: bytes, indices: bytes, data: bytes
+                      ) -> float | None:
+    AF = sp.csc_matrix((np.frombuffer(data, dtype=float), np.frombuffer(indices, dtype=np.int64),
+                        np.frombuffer(indptr, dtype=np.int64)), shape=shape)
     N = AF.shape[1]
     if N == 0:
         return None
