@@ -217,6 +217,34 @@ def test_parametric_support_is_a_tight_upper_bound_and_settles_empty_windows():
     assert np.all(engine.values(Z.c, bad, Z.h) == -np.inf)
 
 
+def test_a_warm_session_agrees_with_cold_solves_and_depends_on_its_own_steps_only():
+    """A session re-solves each window from the last window's bases: its bounds are the cold
+    solves' to 1e-7 of the width, upper bounds of the exact values, and two sessions over the
+    same windows give the same bounds bit for bit, whatever an earlier session saw (an empty
+    window in the middle drops nothing a later step needs)."""
+    rng = np.random.default_rng(11)
+    system = analysis.random_observable_system(rng, 4, 2, 2).linear_system()
+    xs, ys = ss.simulate(system, box(3.0, 4), 14, rng)
+    res = ss.oit_cz_filter(system, box(3.0, 4), ys, delta_bar=3)
+    windows = res.estimates[3:]
+    Z = windows[0]
+    D = np.vstack([np.eye(4), -np.eye(4)])
+    engine = ParametricSupport(Z.G, Z.A, D, np.isinf(Z.h))
+    first, second = engine.session(), engine.session()
+    bad = np.array(Z.b)
+    bad[-1] += 1e3
+    assert np.all(second.values(Z.c, bad, Z.h) == -np.inf)  # an earlier, infeasible step
+    for W in windows:
+        warm = first.values(W.c, W.b, W.h)
+        again = second.values(W.c, W.b, W.h)
+        cold = engine.values(W.c, W.b, W.h)
+        exact = W.support_many(D)
+        width = np.tile(exact[:4] + exact[4:], 2)
+        assert np.all(warm >= exact - 1e-9 * width)
+        assert np.all(np.abs(warm - cold) <= 1e-7 * width)
+        assert np.array_equal(warm, again)
+
+
 # -- bad input -------------------------------------------------------------------------------------------
 def test_bad_arguments_are_named():
     system = example_25()
