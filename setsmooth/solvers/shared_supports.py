@@ -74,18 +74,19 @@ def shared_supports(programs: list[CZProgram], D: np.ndarray, certified: bool | 
     if factors._empty:
         return None
     must = certified is True
-    objectives = [p._objectives(D) for p in programs]
     # One chain per direction, each a batch with its own warm model (made here, in this thread).
-    chains = [Batch(np.stack([GtD[j] for GtD, _, _ in objectives]), own_model=True)
-              for j in range(D.shape[0])]
+    # A chain lists no objectives ahead: they are made a program at a time (O(T) memory), and a
+    # chain is never one block LP.
+    chains = [Batch(np.zeros((0, programs[0].ng)), own_model=True) for _ in range(D.shape[0])]
     for chain in chains:
         chain.model(factors.presolved)
     pool = ThreadPoolExecutor(max_workers=workers) if workers > 1 else None
     out = []
     try:
-        # The chains advance in step, a program at a time, so that only one program's factors
-        # and multipliers are held (O(T) memory, not O(T²)).
-        for p, objective in zip(programs, objectives):
+        # The chains advance in step, a program at a time, so that only one program's objectives,
+        # factors and multipliers are held (O(T) memory, not O(T²)).
+        for p in programs:
+            objective = p._objectives(D)
             solved = _step(p, objective, chains, must, pool)
             if solved is None:
                 return None

@@ -56,7 +56,8 @@ class Batch:
     Parameters
     ----------
     objectives : ndarray, shape (k, ng)
-        The maximized objectives on the original factors, in the order they will be asked.
+        The maximized objectives on the original factors, in the order they will be asked (k = 0:
+        not listed ahead, never solved as one block LP).
     own_model : bool
         Solve on a model of the batch's own (a twin of the thread's kept one, starting from the
         same feasible basis) instead of the kept one: for batches asked in turn, each continuing
