@@ -47,7 +47,7 @@ def shared_supports(programs: list[CZProgram], D: np.ndarray, certified: bool | 
         True: every bound must exist (`SolverError` otherwise), and the last attempt's answer is
         taken where none settles; False or None: as `CZProgram.support_and_bounds`.
     tick : callable, optional
-        Called with 1 after each program's objective is solved (a progress bar's ``update``).
+        Called with k after each program's k objectives are solved (a progress bar's ``update``).
     workers : int
         Threads that share the k chains' solves of each step; the answers are the same, bit for
         bit, for every count.
@@ -56,8 +56,9 @@ def shared_supports(programs: list[CZProgram], D: np.ndarray, certified: bool | 
     -------
     list of (values, bounds) or None
         Per program, the solver's values and the certified bounds (shape (k,) each; bounds None
-        where no sound bound exists, as in `CZProgram.support_and_bounds`). None when the factor set is empty or infeasible: the caller asks each program alone, which
-        settles what an empty stored set means (`ConstrainedZonotope._support`).
+        where no sound bound exists, as in `CZProgram.support_and_bounds`). None when the factor
+        set is empty or infeasible: the caller asks each program alone, which settles what an
+        empty stored set means (`ConstrainedZonotope._support`).
 
     Raises
     ------
