@@ -309,15 +309,14 @@ class SetEstimates(Tubes, list):
         certified : bool or None
             As in `ConvexSet.interval_hull` (default: certified where available).
         workers : int
-            Threads that split the sets between them, each set solved alone (default 1: in order,
-            in this thread, along time where the estimator offers it). Sets over one factor set —
-            a smoother's projections — are solved a direction at a time across the sets
-            (`setsmooth.sets.shared_hulls`), the threads sharing the directions. Clarabel
-            and HiGHS release the GIL while they solve, and every thread builds its own solver
-            instances (`setsmooth.solvers.instances`), so the projections of one trajectory set are
-            solved side by side: 46.5 s → 26.6 s (1.75×) on 2 cores for a 3-state smoother at
-            T = 600 (``benchmarks/bench_long_horizon.py --cases smoother3,smoother3x2``). Keep 1
-            inside process pools that already use every core.
+            Threads (default 1: everything in order, in this thread, and the filter's hulls along
+            time, which only run there). Sets over one factor set — a smoother's projections — are
+            solved a direction at a time across the sets (`setsmooth.sets.shared_hulls`), each
+            set's directions split between the threads, with the same hulls for every count; other
+            sets are split between the threads, each solved alone. Clarabel and HiGHS release the
+            GIL while they solve, and every thread builds its own solver instances
+            (`setsmooth.solvers.instances`). Keep 1 inside process pools that already use every
+            core.
         progress : bool or None
             A tqdm progress bar on standard error, one tick per set (per LP for sets solved a
             direction at a time): the estimators build their
