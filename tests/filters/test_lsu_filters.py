@@ -184,3 +184,35 @@ def test_kept_shape_lsup_contains_the_truth_and_is_looser_than_the_minimal_volum
     assert volume[1] < volume[0]
     with pytest.raises(ValueError, match="construction must be one of"):
         ss.lsup_filter(model, ys, us, construction="smallest")
+
+
+def _cz_arrays(Z):
+    return [None if a is None else np.asarray(a) for a in (Z.G, Z.c, Z.A, Z.b, Z.h, Z.pad, Z.pad_free,
+                                                             Z._slack, Z._slack_free)]
+
+
+def _same_bits(X, Y):
+    for a, b in zip(_cz_arrays(X), _cz_arrays(Y)):
+        assert (a is None) == (b is None)
+        if a is not None:
+            assert a.shape == b.shape and a.dtype == b.dtype and a.tobytes() == b.tobytes()
+
+
+@pytest.mark.parametrize("by_component", [False, True])
+def test_strip_sets_equal_the_strips_cz_forms_bit_for_bit(by_component):
+    # Rows with and without a rounding pad (midpoints and radii not representable: 0.1 ± 0.3 etc.),
+    # a row of exact zeros and one of huge and tiny values side by side.
+    model = ss.LSUModel(A, B, C, 1e-4 * np.ones(3), np.array([0.3, 1e-17]), -np.ones(3), np.ones(3))
+    us, xs, ys = data(model, 40, 3)
+    ys = np.vstack([ys, [[0.1, 0.7]], [[0.0, 0.0]], [[1e16, -3e-300]], [[0.5, 0.25]]])
+    got = model.strip_sets(ys, by_component=by_component)
+    assert len(got) == len(ys)
+    pads = 0
+    for y, sets in zip(ys, got):
+        S = model.strip(y)
+        expected = [ss.Box(S.lo[j:j + 1], S.hi[j:j + 1])._flat_cz for j in range(model.m)] \
+            if by_component else [S._flat_cz]
+        for X, Y in zip(sets if by_component else [sets], expected):
+            _same_bits(X, Y)
+            pads += Y.pad is not None
+    assert pads > 0  # the pad path is exercised

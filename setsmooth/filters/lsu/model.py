@@ -17,7 +17,9 @@ from typing import Any
 import numpy as np
 
 from ..._validation import as_matrix, as_vector, check_rng, real_array
+from ...sets import rounding
 from ...sets.box import Box
+from ...sets.constrained_zonotope import ConstrainedZonotope
 
 __all__ = ["LSUModel"]
 
@@ -112,6 +114,30 @@ class LSUModel:
     def strip(self, y: np.ndarray) -> Box:
         """y_t − 𝕍: the box C x_t must lie in (the strip of the data update (15))."""
         return Box(y - self.v, y + self.v)
+
+    def strip_sets(self, ys: np.ndarray, by_component: bool = False) -> list:
+        """The strips of a whole data sequence as the CZ forms of ``strip(y)`` (``ys`` checked), built
+        at once: ``[strip(y)._flat_cz for y in ys]``, bit for bit (the same elementwise `rounding.
+        box_center_radius` on all rows together, each row's pad kept or dropped as it would be alone),
+        without a Box, its validation and its conversion per step. With ``by_component``: per step, the
+        list of its m one-dimensional strips (as ``Box(strip.lo[j:j+1], strip.hi[j:j+1])._flat_cz``).
+        Boxes are returned (the per-step path) if a bound is not finite."""
+        lo, hi = ys - self.v, ys + self.v
+        if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi))):
+            strips = [self.strip(y) for y in ys]
+            return [[Box._trusted(S.lo[j:j + 1], S.hi[j:j + 1]) for j in range(self.m)] for S in strips] \
+                if by_component else strips
+        center, radius, pad = rounding.box_center_radius(lo, hi)
+        if by_component:
+            one, empty_A, empty_b = np.ones(1), np.zeros((0, 1)), np.zeros(0)
+            return [[ConstrainedZonotope._trusted(
+                radius[t, j:j + 1].reshape(1, 1), center[t, j:j + 1], empty_A, empty_b, one,
+                pad=None if pad is None or pad[t, j] == 0.0 else pad[t, j:j + 1])
+                for j in range(self.m)] for t in range(len(ys))]
+        ones, empty_A, empty_b = np.ones(self.m), np.zeros((0, self.m)), np.zeros(0)
+        return [ConstrainedZonotope._trusted(np.diag(radius[t]), center[t], empty_A, empty_b, ones,
+                                             pad=None if pad is None or not np.any(pad[t]) else pad[t])
+                for t in range(len(ys))]
 
     def check_data(self, ys: Any, us: Any) -> tuple[np.ndarray, np.ndarray]:
         """Validate outputs (t̄, m) and inputs (t̄, ℓ_u) of one data sequence; return them as arrays."""

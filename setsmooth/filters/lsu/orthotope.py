@@ -75,10 +75,11 @@ def lsuo_filter(model: LSUModel, ys: Any, us: Any, *, std: bool = True,
     W = model.W
     supports = []
     box = model.prior
-    for t, y in enumerate(ys):
+    strips = model.strip_sets(ys)   # the CZ forms of model.strip(y), built at once
+    for t, strip in enumerate(strips):
         if t > 0:
             box = hull.apply(minkowski_sum(translate(linear_map(model.A, supports[-1]), model.B @ us[t - 1]), W))
-        post = tight_box(generalized_intersection(box, model.C, model.strip(y)), hull)
+        post = tight_box(generalized_intersection(box, model.C, strip), hull)
         if isinstance(post, EmptySet) or post.is_empty():
             supports += [EmptySet(model.n) for _ in range(len(ys) - t)]
             break

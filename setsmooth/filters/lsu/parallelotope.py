@@ -40,7 +40,6 @@ import numpy as np
 
 from ... import tolerances as tol
 from ...sets.algebra import generalized_intersection
-from ...sets.box import Box
 from ...sets.empty import EmptySet
 from ...sets.reduction._base import abs_sum_upper
 from ...sets.cz_vertices import cz_vertices, vertex_bounds
@@ -105,11 +104,12 @@ def lsup_filter(model: LSUModel, ys: Any, us: Any, *, construction: str = "min_v
     prior = model.prior
     P = Zonotope._trusted(np.diag(prior.widths() / 2), prior.midpoint())
     supports = []
-    for t, y in enumerate(ys):
+    # The CZ forms of model.strip(y) (per component with the kept shape), built at once.
+    strips = model.strip_sets(ys, by_component=kept)
+    for t, strip in enumerate(strips):
         if t > 0:
             P = parallelotope_predict(supports[-1], model.A, model.B @ us[t - 1], model.omega, kept)
-        post = _sequential_update(P, model.C, model.strip(y)) if kept else \
-            parallelotope_update(P, model.C, model.strip(y))
+        post = _sequential_update(P, model.C, strip) if kept else parallelotope_update(P, model.C, strip)
         if isinstance(post, EmptySet):
             supports += [EmptySet(model.n) for _ in range(len(ys) - t)]
             break
@@ -124,10 +124,11 @@ def lsup_filter(model: LSUModel, ys: Any, us: Any, *, construction: str = "min_v
     return LSUResult("LSUP", supports, {"center": centers}, spread, {"construction": construction})
 
 
-def _sequential_update(P: Zonotope, C: np.ndarray, strip) -> "Zonotope | EmptySet":
-    """Vicino–Zappa for one scalar strip at a time (n + 1 choices each)."""
+def _sequential_update(P: Zonotope, C: np.ndarray, strips: list) -> "Zonotope | EmptySet":
+    """Vicino–Zappa for one scalar strip at a time (n + 1 choices each); ``strips[j]`` is the j-th
+    component of the strip, a one-dimensional set (`LSUModel.strip_sets` with ``by_component``)."""
     for j in range(C.shape[0]):
-        P = parallelotope_update(P, C[j:j + 1], Box._trusted(strip.lo[j:j + 1], strip.hi[j:j + 1]))
+        P = parallelotope_update(P, C[j:j + 1], strips[j])
         if isinstance(P, EmptySet):
             break
     return P
