@@ -216,3 +216,45 @@ def test_strip_sets_equal_the_strips_cz_forms_bit_for_bit(by_component):
             _same_bits(X, Y)
             pads += Y.pad is not None
     assert pads > 0  # the pad path is exercised
+
+
+def test_intersection_vertices_equal_those_of_the_charged_intersection_bit_for_bit():
+    from setsmooth.filters.lsu._strips import box_form, intersection_vertices
+    from setsmooth.sets.algebra import generalized_intersection
+
+    rng = np.random.default_rng(7)
+    model = ss.LSUModel(A, B, C, 1e-4 * np.ones(3), np.array([0.3, 0.1]), -np.ones(3), np.ones(3))
+    ys = rng.uniform(-1, 1, (30, 2))
+    for t, (strip, parts) in enumerate(zip(model.strip_sets(ys), model.strip_sets(ys, by_component=True))):
+        Z = ss.Zonotope(rng.standard_normal((3, 3)) * 0.5, rng.uniform(-0.2, 0.2, 3))
+        lo = rng.uniform(-1, 0, 3) / 3
+        box = ss.Box(lo, lo + rng.uniform(0.1, 1, 3))
+        cases = [(Z.G, Z.c, Z, C, strip), (Z.G, Z.c, Z, C[:1], parts[0]), (Z.G, Z.c, Z, C, model.strip(ys[t])),
+                 (*box_form(box), box, C, strip)]
+        for G, c, S, R, Y in cases:
+            got = intersection_vertices(G, c, R, Y)
+            expected = cz_vertices(generalized_intersection(S, R, Y))
+            assert got.shape == expected.shape and got.tobytes() == expected.tobytes()
+    assert box_form(ss.Box([0.0, -np.inf], [1.0, 0.0])) is None
+
+
+@pytest.mark.parametrize("K", [0.0, 1.0, 3.0])
+def test_lsuo_lsup_equal_their_fully_intersected_runs_bit_for_bit(K, monkeypatch):
+    import setsmooth.filters.lsu.orthotope as orthotope
+    import setsmooth.filters.lsu.parallelotope as parallelotope
+
+    model = paper_model(K)
+    us, xs, ys = data(model, 40, 11)
+    runs = lambda: [ss.lsuo_filter(model, ys, us), ss.lsup_filter(model, ys, us),
+                    ss.lsup_filter(model, ys, us, construction="kept_shape")]
+    fast = runs()
+    monkeypatch.setattr(orthotope, "intersection_vertices", lambda *args: None)
+    monkeypatch.setattr(parallelotope, "intersection_vertices", lambda *args: None)
+    full = runs()
+    for a, b in zip(fast, full):
+        assert a.estimates["center"].tobytes() == b.estimates["center"].tobytes()
+        assert a.std.tobytes() == b.std.tobytes()
+        for S, T in zip(a.supports, b.supports):
+            for name in ("lo", "hi", "G", "c"):
+                if hasattr(S, name):
+                    assert getattr(S, name).tobytes() == getattr(T, name).tobytes()

@@ -23,6 +23,7 @@ from ...sets.empty import EmptySet
 from ...sets.cz_vertices import cz_vertices, vertex_bounds
 from ...sets.reduction import IntervalHull
 from ..consistency import check_on_inconsistent, report_inconsistency
+from ._strips import box_form, intersection_vertices
 from .cz import empty_support
 from .estimates import posterior_std
 from .model import LSUModel
@@ -79,7 +80,7 @@ def lsuo_filter(model: LSUModel, ys: Any, us: Any, *, std: bool = True,
     for t, strip in enumerate(strips):
         if t > 0:
             box = hull.apply(minkowski_sum(translate(linear_map(model.A, supports[-1]), model.B @ us[t - 1]), W))
-        post = tight_box(generalized_intersection(box, model.C, strip), hull)
+        post = _data_update(box, model.C, strip, hull)
         if isinstance(post, EmptySet) or post.is_empty():
             supports += [EmptySet(model.n) for _ in range(len(ys) - t)]
             break
@@ -99,6 +100,19 @@ def tight_box(Q, hull: IntervalHull):
     if V.shape[0] == 0:
         return EmptySet(Q.dim)
     lo, hi = vertex_bounds(V, np.eye(Q.dim))
+    return Box._trusted(lo, hi)
+
+
+def _data_update(box: Box, C: np.ndarray, strip, hull: IntervalHull):
+    """``tight_box(generalized_intersection(box, C, strip), hull)``, bit for bit, from the vertices
+    of the intersection built without its rounding charges (`_strips`), which they do not read."""
+    form = box_form(box)
+    V = None if form is None else intersection_vertices(*form, C, strip)
+    if V is None:
+        return tight_box(generalized_intersection(box, C, strip), hull)
+    if V.shape[0] == 0:
+        return EmptySet(box.dim)
+    lo, hi = vertex_bounds(V, np.eye(box.dim))
     return Box._trusted(lo, hi)
 
 

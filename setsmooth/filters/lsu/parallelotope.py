@@ -45,6 +45,7 @@ from ...sets.reduction._base import abs_sum_upper
 from ...sets.cz_vertices import cz_vertices, vertex_bounds
 from ...sets.zonotope import Zonotope
 from ..consistency import check_on_inconsistent, report_inconsistency
+from ._strips import intersection_vertices
 from .cz import empty_support
 from .model import LSUModel
 from .result import LSUResult
@@ -148,10 +149,13 @@ def parallelotope_update(P: Zonotope, C: np.ndarray, strip) -> "Zonotope | Empty
     parallel to n of the n + m hyperplane pairs (P's faces, C's rows), each pair tight (Vicino &
     Zappa 1996, all m strips at once). `EmptySet` when the intersection is empty."""
     n = P.dim
-    Q = generalized_intersection(P, C, strip)
     normals = np.vstack([np.linalg.inv(P.G), C])
     normals = normals / np.abs(normals).max(axis=1, keepdims=True)
-    V = cz_vertices(Q)
+    # The vertices of Q without its rounding charges, which they do not read (`_strips`).
+    V = intersection_vertices(P.G, P.c, C, strip) if isinstance(P, Zonotope) else None
+    if V is None:
+        Q = generalized_intersection(P, C, strip)
+        V = cz_vertices(Q)
     if V is None:   # beyond the enumeration's size: certified support values
         support = Q.support_many(np.vstack([normals, -normals]), certified=True)
         hi, lo = support[: len(normals)], -support[len(normals):]
