@@ -258,3 +258,18 @@ def test_lsuo_lsup_equal_their_fully_intersected_runs_bit_for_bit(K, monkeypatch
             for name in ("lo", "hi", "G", "c"):
                 if hasattr(S, name):
                     assert getattr(S, name).tobytes() == getattr(T, name).tobytes()
+
+
+def test_the_strips_are_rounded_outward():
+    """y ∓ v rounded to nearest can land inside the exact strip (1 − 1e-17 rounds to 1): the strip
+    bounds are rounded outward, per step and for the whole sequence alike."""
+    from fractions import Fraction
+
+    model = ss.LSUModel([[0.9]], [[1.0]], [[1.0]], [0.1], [1e-17], [-1.0], [1.0])
+    ys = np.array([[1.0], [3.0], [-0.3]])
+    for y, strip_set in zip(ys, model.strip_sets(ys)):
+        strip = model.strip(y)
+        lo, hi = Fraction(float(strip.lo[0])), Fraction(float(strip.hi[0]))
+        exact_lo, exact_hi = Fraction(float(y[0])) - Fraction(1e-17), Fraction(float(y[0])) + Fraction(1e-17)
+        assert lo <= exact_lo and exact_hi <= hi
+        assert strip_set.support_many(np.array([[1.0], [-1.0]]), certified=True)[0] >= float(exact_hi)

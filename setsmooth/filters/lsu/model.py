@@ -112,8 +112,9 @@ class LSUModel:
         return Box(self.x1_lo, self.x1_hi)
 
     def strip(self, y: np.ndarray) -> Box:
-        """y_t − 𝕍: the box C x_t must lie in (the strip of the data update (15))."""
-        return Box(y - self.v, y + self.v)
+        """y_t − 𝕍: the box C x_t must lie in (the strip of the data update (15)), its bounds y ∓ v
+        rounded outward (a strip one ulp narrower than the exact one could cut the true state)."""
+        return Box(rounding.sum_down(y, -self.v), rounding.sum_up(y, self.v))
 
     def strip_sets(self, ys: np.ndarray, by_component: bool = False) -> list:
         """The strips of a whole data sequence as the CZ forms of ``strip(y)`` (``ys`` checked), built
@@ -122,7 +123,7 @@ class LSUModel:
         without a Box, its validation and its conversion per step. With ``by_component``: per step, the
         list of its m one-dimensional strips (as ``Box(strip.lo[j:j+1], strip.hi[j:j+1])._flat_cz``).
         Boxes are returned (the per-step path) if a bound is not finite."""
-        lo, hi = ys - self.v, ys + self.v
+        lo, hi = rounding.sum_down(ys, -self.v), rounding.sum_up(ys, self.v)
         if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi))):
             strips = [self.strip(y) for y in ys]
             return [[Box._trusted(S.lo[j:j + 1], S.hi[j:j + 1]) for j in range(self.m)] for S in strips] \
