@@ -294,9 +294,16 @@ class ConstrainedZonotope(ConvexSet):
             return None  # closed form
         eye = np.eye(self.dim)
         values, bounds = self._program.support_and_bounds(np.vstack([eye, -eye]))
-        hulls = {False: self._box_of_supports(values, self.dim)}
         if self._charged and bounds is not None and np.isneginf(bounds).any():
-            return hulls  # stored empty: the certified hulls are the relaxed set's (`_support`)
+            # stored empty: the certified hulls are the relaxed set's (`_support`)
+            return {False: self._box_of_supports(values, self.dim)}
+        return self._hulls_of_supports(values, bounds)
+
+    def _hulls_of_supports(self, values: np.ndarray, bounds: np.ndarray | None) -> dict:
+        """The interval hulls, by ``certified`` flag, of one set of solves along [I; −I]: the
+        solver's ``values`` (False) and their certified ``bounds`` (True, and the default None),
+        or the values for None where no sound bound exists (``bounds`` None)."""
+        hulls = {False: self._box_of_supports(values, self.dim)}
         if bounds is None:
             hulls[None] = hulls[False]
         else:

@@ -24,7 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 
 __all__ = ["SIMPLEX_TOLERANCES", "DECISION_TOLERANCES", "IPM_OPTIMALITY_TOLERANCE", "quiet_highs",
-           "rung_iterations", "rung_caps", "lp_model", "factor_model", "settled_point",
+           "rung_iterations", "rung_caps", "lp_model", "factor_model", "settled_point", "ladder",
            "simplex_cold", "simplex_inequalities", "simplex_box_equalities", "interior_point"]
 
 #: HiGHS's primal and dual feasibility tolerances for the support programs, tried in turn (None:
@@ -172,8 +172,16 @@ def cold_ladder(h, q: np.ndarray, tolerances: tuple) -> tuple[str, np.ndarray | 
     judges it), or the last rung's failure, with None for x and y."""
     p = h.getNumCol()
     h.changeColsCost(p, np.arange(p, dtype=np.int32), np.asarray(q, dtype=float))
+    return ladder(h, tolerances)
+
+
+def ladder(h, tolerances: tuple) -> tuple[str, np.ndarray | None, np.ndarray | None]:
+    """The dual simplex method on the model ``h`` as it stands (from its current basis, if it has
+    one) through ``tolerances``, a rung that does not settle dropped with its basis so that the next
+    starts cold: ('AlmostSolved', x, −y) at the first rung that settles, the verdict of the first
+    infeasible or unbounded rung, or the last rung's failure, with None for x and y."""
     name = "NumericalError"
-    for tolerance, cap in zip(tolerances, rung_caps(p + h.getNumRow(), len(tolerances))):
+    for tolerance, cap in zip(tolerances, rung_caps(h.getNumCol() + h.getNumRow(), len(tolerances))):
         set_rung(h, tolerance, cap)
         h.run()
         point = settled_point(h)

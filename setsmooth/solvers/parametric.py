@@ -35,7 +35,7 @@ import scipy.sparse as sp
 from ..floating import U, gamma
 from .certify import FREE_BOUND_DENSE_MAX, certified_bound
 from .clarabel_lp import SolverError, _csc
-from .highs import _DUAL, SIMPLEX_TOLERANCES, lp_model, rung_caps, set_rung, settled_point
+from .highs import SIMPLEX_TOLERANCES, ladder, lp_model
 
 __all__ = ["ParametricSupport", "WarmSession"]
 
@@ -180,7 +180,7 @@ class WarmSession:
             model.changeRowsBounds(e.nc, rows, b, b)
             if fin.size:
                 model.changeColsBounds(fin.size, fin, -h[e.fin], h[e.fin])
-            settled = _warm_dual(model, e.nc + e.ng)
+            _, _, settled = ladder(model, SIMPLEX_TOLERANCES)  # from the last step's basis
             if settled is not None and np.all(np.isfinite(settled)):
                 lam[j], ok[j] = settled, True
         charges = {"pad": pad, "slack": slack, "pad_free": pad_free, "slack_free": slack_free}
@@ -221,16 +221,3 @@ def _free_lam_min(A: sp.csc_matrix, free_cols: np.ndarray) -> float | None:
     eig_err = 8.0 * free_cols.size * U * np.linalg.norm(gram)
     return float(np.linalg.eigvalsh(gram)[0]) - gram_err - eig_err
 
-
-def _warm_dual(model, size: int) -> np.ndarray | None:
-    """The dual simplex method on ``model`` from its current basis through `SIMPLEX_TOLERANCES`
-    (a rung that does not settle is dropped with its basis: the next starts cold): the multipliers
-    λ = −y of the first rung that settles, or None (the basis dropped too)."""
-    for tolerance, cap in zip(SIMPLEX_TOLERANCES, rung_caps(size, len(SIMPLEX_TOLERANCES))):
-        set_rung(model, tolerance, cap, _DUAL)
-        model.run()
-        point = settled_point(model)
-        if point is not None:
-            return point[1]
-        model.clearSolver()
-    return None
