@@ -22,7 +22,7 @@ from matplotlib.colors import LogNorm
 
 import setsmooth as ss
 from setsmooth import montecarlo
-from setsmooth.filters.kalman import rts_smoother
+from setsmooth.filters.kalman import rts_smoothers
 
 import _smoothing_examples as ex
 import _verdicts
@@ -40,21 +40,21 @@ TRUE_VARIANCE = 1 / 3   # of a uniform law on [-1, 1]
 NEAR_BEST = 1.02
 
 
-def rts_squared_errors(system, xs, ys, q, r) -> np.ndarray:
-    """‖x̂_k − x_k‖² for k = 0..T of the RTS smoother with Q = q, R = r·I (32)."""
+def rts_squared_errors(system, xs, ys, pairs) -> list[np.ndarray]:
+    """‖x̂_k − x_k‖² for k = 0..T of the RTS smoother with Q = q, R = r·I (32), for each (q, r) of ``pairs``
+    (`rts_smoothers`: one recursion over all pairs, each result bit for bit its `rts_smoother`)."""
     mean0, P0 = ex.rts_prior()
-    estimates = rts_smoother(system, ys, mean0, P0, q, r).means
-    return ((estimates - xs) ** 2).sum(axis=1)
+    return [((result.means - xs) ** 2).sum(axis=1) for result in rts_smoothers(system, ys, mean0, P0, pairs)]
 
 
 def trial(rng: np.random.Generator, q_grid=Q_GRID, r_grid=R_GRID) -> dict:
     """One trajectory; the MSE over k of every grid pair, the paper's pair and the true variances."""
     system, X0 = ex.linear_system(), ex.linear_x0()
     xs, ys = ss.simulate(system, X0, ex.T, rng)
-    grid = np.array([[rts_squared_errors(system, xs, ys, q, r).mean() for r in r_grid] for q in q_grid])
-    return {"grid": grid,
-            "paper_pair": rts_squared_errors(system, xs, ys, *ex.PAPER_BEST_QR).mean(),
-            "true_variances": rts_squared_errors(system, xs, ys, TRUE_VARIANCE, TRUE_VARIANCE).mean()}
+    pairs = [(q, r) for q in q_grid for r in r_grid] + [ex.PAPER_BEST_QR, (TRUE_VARIANCE, TRUE_VARIANCE)]
+    mse = [errors.mean() for errors in rts_squared_errors(system, xs, ys, pairs)]
+    return {"grid": np.array(mse[:-2]).reshape(len(q_grid), len(r_grid)),
+            "paper_pair": mse[-2], "true_variances": mse[-1]}
 
 
 def tune(runs: int, seed: int, q_grid=Q_GRID, r_grid=R_GRID, workers: int | None = None,

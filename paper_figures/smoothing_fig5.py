@@ -43,9 +43,8 @@ def trial(rng: np.random.Generator, q: float, r: float) -> dict:
     system, X0 = ex.linear_system(), ex.linear_x0()
     xs, ys = ss.simulate(system, X0, ex.T, rng)
     centres = np.array([S.center() for S in ex.linear_ranges(system, X0, ys)[1]])
-    return {"sms": ((centres - xs) ** 2).sum(axis=1),
-            "rts": smoothing_fig4.rts_squared_errors(system, xs, ys, q, r),
-            "rts_paper_pair": smoothing_fig4.rts_squared_errors(system, xs, ys, *ex.PAPER_BEST_QR)}
+    rts, rts_paper_pair = smoothing_fig4.rts_squared_errors(system, xs, ys, [(q, r), ex.PAPER_BEST_QR])
+    return {"sms": ((centres - xs) ** 2).sum(axis=1), "rts": rts, "rts_paper_pair": rts_paper_pair}
 
 
 def rts_tuning(runs: int, seed: int, out: Path, q_grid, r_grid, workers, progress, executor) -> dict:

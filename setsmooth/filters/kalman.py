@@ -150,21 +150,8 @@ def kalman_filter(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) -
     Smoothing paper §IV-C (RTS baseline, [6], [22]); R. E. Kalman (1960).
     """
     system, n, ys, m0, P = _validate(system, ys, x0_mean, P0)
-    # Validated once here; the loop below trusts them (system matrices are validated by the system).
-    Q = _noise_covariance(Q, "Q", _mat(system.E_at(0), "E(0)", n, None).shape[1])
-    R = _noise_covariance(R, "R", _mat(system.F_at(0), "F(0)", ys.shape[1], None).shape[1])
-    steps = ys.shape[0]
-    means = np.empty((steps, n))
-    covs = np.empty((steps, n, n))
-    pred_means = np.empty((steps, n))
-    pred_covs = np.empty((steps, n, n))
-    mean = m0
-    for k in range(steps):
-        if k > 0:
-            mean, P = _predict(system, k - 1, means[k - 1], covs[k - 1], Q, n)
-        pred_means[k], pred_covs[k] = mean, P
-        means[k], covs[k] = _update(system, k, mean, P, ys[k], R, n)
-    return KalmanResult(means, covs, pred_means, pred_covs, kind="Kalman filter", system=system)
+    Q, R = _noise_covariances(system, n, ys, Q, R)
+    return KalmanResult(*_filter(system, ys, m0, P, Q, R), kind="Kalman filter", system=system)
 
 
 def rts_smoother(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) -> KalmanResult:
@@ -196,23 +183,107 @@ def rts_smoother(system: Any, ys: Any, x0_mean: Any, P0: Any, Q: Any, R: Any) ->
     ----------
     Smoothing paper §IV-C and (32); H. E. Rauch, F. Tung, C. T. Striebel, AIAA J. 3(8), 1965.
     """
-    filt = kalman_filter(system, ys, x0_mean, P0, Q, R)
-    means = filt.means.copy()
-    covs = filt.covariances.copy()
+    system, n, ys, m0, P = _validate(system, ys, x0_mean, P0)
+    Q, R = _noise_covariances(system, n, ys, Q, R)
+    return KalmanResult(*_smooth(system, *_filter(system, ys, m0, P, Q, R)), kind="RTS smoother",
+                        system=system)
+
+
+def rts_smoothers(system: Any, ys: Any, x0_mean: Any, P0: Any, noise_covariances: Any) -> list[KalmanResult]:
+    """`rts_smoother` for each (Q, R) of ``noise_covariances``, all pairs run as one recursion.
+
+    The smoothing paper's tuning (Fig. 4) runs the smoother on one record for a grid of (q, r) (32);
+    the recursion is the same for every pair, so it runs once on stacks of covariances, each stacked
+    product and solve the very operation `rts_smoother` does on that pair: every result is bit for bit
+    `rts_smoother(system, ys, x0_mean, P0, Q, R)`.
+
+    Parameters
+    ----------
+    system, ys, x0_mean, P0
+        As for `kalman_filter`.
+    noise_covariances : sequence of (Q, R)
+        Each Q and R as for `kalman_filter`.
+
+    Returns
+    -------
+    list of KalmanResult
+        One per pair, in order, as `rts_smoother` returns it.
+
+    Raises
+    ------
+    ValueError, TypeError
+        As for `kalman_filter`, and when ``noise_covariances`` is empty.
+
+    Examples
+    --------
+    >>> import numpy as np, setsmooth as ss
+    >>> from setsmooth.filters.kalman import rts_smoothers
+    >>> box = ss.Box([-1.0], [1.0])
+    >>> system = ss.LinearSystem([[1.0]], None, [[1.0]], W=box, V=box)
+    >>> ys = [[0.0], [0.5]]
+    >>> grid = rts_smoothers(system, ys, [0.0], [[1.0]], [(1.0, 1.0), (1.0, 2.0)])
+    >>> [r.means.ravel().round(3).tolist() for r in grid]
+    [[0.1, 0.3], [0.091, 0.227]]
+    >>> bool((grid[1].means == ss.rts_smoother(system, ys, [0.0], [[1.0]], 1.0, 2.0).means).all())
+    True
+    """
+    system, n, ys, m0, P = _validate(system, ys, x0_mean, P0)
+    pairs = [_noise_covariances(system, n, ys, Q, R) for Q, R in noise_covariances]
+    if not pairs:
+        raise ValueError("noise_covariances must hold at least one (Q, R) pair")
+    Q, R = (np.stack(stack) for stack in zip(*pairs))
+    means, covs = _smooth(system, *_filter(system, ys, m0, P, Q, R))
+    # Pair i's arrays made contiguous, as `rts_smoother` returns them.
+    return [KalmanResult(np.ascontiguousarray(means[:, i]), np.ascontiguousarray(covs[:, i]),
+                         kind="RTS smoother", system=system) for i in range(len(pairs))]
+
+
+def _noise_covariances(system: Any, n: int, ys: np.ndarray, Q: Any, R: Any) -> tuple[np.ndarray, np.ndarray]:
+    # Validated once here; the loops below trust them (system matrices are validated by the system).
+    return (_noise_covariance(Q, "Q", _mat(system.E_at(0), "E(0)", n, None).shape[1]),
+            _noise_covariance(R, "R", _mat(system.F_at(0), "F(0)", ys.shape[1], None).shape[1]))
+
+
+def _filter(system: Any, ys: np.ndarray, m0: np.ndarray, P0: np.ndarray, Q: np.ndarray,
+            R: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The Kalman recursion: means, covariances, predicted means, predicted covariances.
+
+    Q (…, p, p) and R (…, q, q) may be stacks, one filter per stacked pair: the arrays are then
+    (T+1, …, n) and (T+1, …, n, n), and every stacked product is the one of that filter alone.
+    """
+    steps, n = ys.shape[0], m0.shape[0]
+    batch = np.broadcast_shapes(Q.shape[:-2], R.shape[:-2])
+    means = np.empty((steps, *batch, n))
+    covs = np.empty((steps, *batch, n, n))
+    pred_means = np.empty((steps, *batch, n))
+    pred_covs = np.empty((steps, *batch, n, n))
+    mean, P = m0, P0
+    for k in range(steps):
+        if k > 0:
+            mean, P = _predict(system, k - 1, means[k - 1], covs[k - 1], Q)
+        pred_means[k], pred_covs[k] = mean, P
+        means[k], covs[k] = _update(system, k, mean, P, ys[k], R, n)
+    return means, covs, pred_means, pred_covs
+
+
+def _smooth(system: Any, f_means: np.ndarray, f_covs: np.ndarray, pred_means: np.ndarray,
+            pred_covs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The RTS backward pass over `_filter`'s arrays (stacked or not): smoothed means and covariances."""
+    means = f_means.copy()
+    covs = f_covs.copy()
     for k in range(means.shape[0] - 2, -1, -1):
         A = np.asarray(system.A_at(k))
-        P_pred = filt.predicted_covariances[k + 1]
+        P_pred = pred_covs[k + 1]
         # Gᵀ = P_pred⁻¹ A P_filt since both covariances are symmetric.
-        G = _solve_psd(P_pred, A @ filt.covariances[k]).T
-        means[k] = filt.means[k] + G @ (means[k + 1] - filt.predicted_means[k + 1])
-        covs[k] = _symmetrize(filt.covariances[k] + G @ (covs[k + 1] - P_pred) @ G.T)
-    return KalmanResult(means, covs, kind="RTS smoother", system=system)
+        G = _transpose(_solve_psd(P_pred, A @ f_covs[k]))
+        means[k] = f_means[k] + _times_vector(G, means[k + 1] - pred_means[k + 1])
+        covs[k] = _symmetrize(f_covs[k] + G @ (covs[k + 1] - P_pred) @ _transpose(G))
+    return means, covs
 
 
-def _predict(system: Any, k: int, mean: np.ndarray, P: np.ndarray, Q: np.ndarray,
-             n: int) -> tuple[np.ndarray, np.ndarray]:
+def _predict(system: Any, k: int, mean: np.ndarray, P: np.ndarray, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     A, E = np.asarray(system.A_at(k)), np.asarray(system.E_at(k))
-    return A @ mean + system.input_term(k), _symmetrize(A @ P @ A.T + E @ Q @ E.T)
+    return _times_vector(A, mean) + system.input_term(k), _symmetrize(A @ P @ _transpose(A) + E @ Q @ E.T)
 
 
 def _update(system: Any, k: int, mean: np.ndarray, P: np.ndarray, y: np.ndarray, R: np.ndarray,
@@ -222,23 +293,26 @@ def _update(system: Any, k: int, mean: np.ndarray, P: np.ndarray, y: np.ndarray,
     S = _symmetrize(C @ P @ C.T + FRF)
     try:
         # numpy's solve: scipy's argument checks cost more than the solve for these small matrices
-        K = np.linalg.solve(S, C @ P).T
+        K = _transpose(np.linalg.solve(S, C @ P))
     except np.linalg.LinAlgError as exc:
         raise ValueError(f"innovation covariance C P Cᵀ + F R Fᵀ at k = {k} is singular; "
                          "make R (or P0) positive definite") from exc
     # Joseph form: stays symmetric PSD under rounding, unlike P − K S Kᵀ.
     I_KC = np.eye(n) - K @ C
-    P_post = _symmetrize(I_KC @ P @ I_KC.T + K @ FRF @ K.T)
-    return mean + K @ (y - C @ mean), P_post
+    P_post = _symmetrize(I_KC @ P @ _transpose(I_KC) + K @ FRF @ _transpose(K))
+    return mean + _times_vector(K, y - _times_vector(C, mean)), P_post
 
 
 def _solve_psd(P: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """P⁻¹ rhs for a PSD P; the least-squares (pseudo-inverse) solution when P is singular."""
+    """P⁻¹ rhs for a PSD P (or a stack of them); the least-squares (pseudo-inverse) solution when P is
+    singular."""
     try:
         return np.linalg.solve(P, rhs)
     except np.linalg.LinAlgError:
         # Singular P_{k+1|k} (e.g. Q = 0 with a degenerate P0): the pseudo-inverse gain is the
         # limit of the regularized one and still yields the correct conditional mean.
+        if P.ndim > 2:
+            return np.stack([_solve_psd(P_i, rhs_i) for P_i, rhs_i in zip(*np.broadcast_arrays(P, rhs))])
         return np.linalg.lstsq(P, rhs, rcond=None)[0]
 
 
@@ -283,4 +357,15 @@ def _mat(value: Any, name: str, rows: int | None, cols: int | None) -> np.ndarra
 
 
 def _symmetrize(M: np.ndarray) -> np.ndarray:
-    return 0.5 * (M + M.T)
+    return 0.5 * (M + _transpose(M))
+
+
+def _transpose(M: np.ndarray) -> np.ndarray:
+    """Mᵀ of a matrix or of each matrix of a stack (for a matrix the view M.T)."""
+    return np.swapaxes(M, -1, -2)
+
+
+def _times_vector(M: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """M v for a vector or a stack of vectors v (…, n), M a matrix or a stack: the same gemv per vector as
+    M @ v on one vector."""
+    return (M @ v[..., None])[..., 0]

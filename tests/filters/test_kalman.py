@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from setsmooth.filters.kalman import KalmanResult, kalman_filter, rts_smoother
+from setsmooth.filters.kalman import KalmanResult, kalman_filter, rts_smoother, rts_smoothers
 
 
 class _Stub:
@@ -229,3 +229,64 @@ def test_singular_innovation_covariance_is_reported():
 def test_system_without_interface_is_rejected():
     with pytest.raises(TypeError, match="system"):
         kalman_filter(object(), np.zeros((2, 1)), [0.0], [[1.0]], 1.0, 1.0)
+
+
+def _rts_one_pair(sys, ys, x0_mean, P0, Q, R):
+    """The per-pair recursion `rts_smoother` ran before its loops took stacks (matrix Q and R)."""
+    sym = lambda M: 0.5 * (M + M.T)
+    n, steps = sys.n, ys.shape[0]
+    means, covs = np.empty((steps, n)), np.empty((steps, n, n))
+    pred_means, pred_covs = np.empty((steps, n)), np.empty((steps, n, n))
+    mean, P = x0_mean, sym(P0)
+    for k in range(steps):
+        if k > 0:
+            A, E = sys.A_at(k - 1), sys.E_at(k - 1)
+            mean, P = A @ means[k - 1] + sys.input_term(k - 1), sym(A @ covs[k - 1] @ A.T + E @ Q @ E.T)
+        pred_means[k], pred_covs[k] = mean, P
+        C, F = sys.C_at(k), sys.F_at(k)
+        FRF = F @ R @ F.T
+        K = np.linalg.solve(sym(C @ P @ C.T + FRF), C @ P).T
+        I_KC = np.eye(n) - K @ C
+        means[k], covs[k] = mean + K @ (ys[k] - C @ mean), sym(I_KC @ P @ I_KC.T + K @ FRF @ K.T)
+    s_means, s_covs = means.copy(), covs.copy()
+    for k in range(steps - 2, -1, -1):
+        G = np.linalg.solve(pred_covs[k + 1], sys.A_at(k) @ covs[k]).T
+        s_means[k] = means[k] + G @ (s_means[k + 1] - pred_means[k + 1])
+        s_covs[k] = sym(covs[k] + G @ (s_covs[k + 1] - pred_covs[k + 1]) @ G.T)
+    return s_means, s_covs
+
+
+@pytest.mark.parametrize("seed, n, m, p, q", [(0, 3, 2, 2, 3), (1, 2, 2, 1, 2), (2, 5, 3, 2, 1), (3, 1, 1, 1, 1)])
+def test_smoother_is_bitwise_the_per_matrix_recursion(seed, n, m, p, q):
+    # The loops run on stacks now; one pair must still be the very products of the per-matrix loop.
+    sys, ys, x0_mean, P0, Q, R = _problem(seed, n, m, p, q, T=12)
+    means, covs = _rts_one_pair(sys, ys, x0_mean, P0, Q, R)
+    res = rts_smoother(sys, ys, x0_mean, P0, Q, R)
+    np.testing.assert_array_equal(res.means, means)
+    np.testing.assert_array_equal(res.covariances, covs)
+
+
+@pytest.mark.parametrize("seed, n, m, p, q", [(0, 3, 2, 2, 3), (1, 2, 2, 1, 2), (2, 5, 3, 2, 1), (3, 1, 1, 1, 1)])
+def test_smoothers_over_a_grid_are_bitwise_each_smoother(seed, n, m, p, q):
+    sys, ys, x0_mean, P0, Q, R = _problem(seed, n, m, p, q, T=12)
+    pairs = [(qq, rr) for qq in (0.01, 0.3, 1.0) for rr in (0.036, 2.0)] + [(Q, R), (2 * Q, 0.5)]
+    for (Qi, Ri), res in zip(pairs, rts_smoothers(sys, ys, x0_mean, P0, pairs), strict=True):
+        one = rts_smoother(sys, ys, x0_mean, P0, Qi, Ri)
+        np.testing.assert_array_equal(res.means, one.means)
+        np.testing.assert_array_equal(res.covariances, one.covariances)
+        assert res.means.flags.c_contiguous and res.kind == one.kind
+
+
+def test_smoothers_with_singular_predictions_fall_back_per_pair():
+    sys, ys, x0_mean, _, _, R = _problem(6, T=3)
+    v = np.array([1.0, 2.0, -1.0])
+    P0 = np.outer(v, v)
+    pairs = [(0.0, R), (1e-3, R), (0.0, 2 * R)]
+    for (Qi, Ri), res in zip(pairs, rts_smoothers(sys, ys, x0_mean, P0, pairs), strict=True):
+        np.testing.assert_array_equal(res.means, rts_smoother(sys, ys, x0_mean, P0, Qi, Ri).means)
+
+
+def test_smoothers_need_a_pair():
+    sys, ys, x0_mean, P0, _, _ = _problem(8, T=3)
+    with pytest.raises(ValueError, match="at least one"):
+        rts_smoothers(sys, ys, x0_mean, P0, [])
