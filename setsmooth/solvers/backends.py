@@ -9,6 +9,14 @@ A backend solves min qᵀη over a presolved factor set {Âη = b̂, |η_B| ≤ 
 * 'simplex cold': HiGHS's dual simplex method from scratch (`highs.simplex_cold`);
 * 'interior': HiGHS's interior-point method without crossover (`highs.interior_point`).
 
+A *sequence* backend keeps state along a sequence of programs that share their constraint matrix
+and differ in b and the factor bounds (the OIT-CZ windows, `parametric.ParametricSupport`):
+``SEQUENCE_BACKENDS[name](A, Q, free)`` is made once per sequence and its ``solve(b, h, which)``
+returns multipliers and which objectives settled, for the caller's certificate to judge:
+
+* 'simplex along time': one HiGHS model per objective, re-solved by the dual simplex method from
+  its last optimal basis (`highs.DirectionModels`).
+
 `Answer.status` is one of `STATUSES`: 'solved' (Clarabel's own 'Solved': taken as it is),
 'candidate' (a point and multipliers that only the caller's independent check may accept: Clarabel's
 'AlmostSolved' and every HiGHS optimum), 'infeasible', 'unbounded', or 'unsettled' (no answer;
@@ -27,11 +35,11 @@ import scipy.sparse as sp
 
 from . import clarabel_lp
 from .clarabel_lp import _index_type, _zero_cost
-from .highs import interior_point, simplex_cold
+from .highs import DirectionModels, interior_point, simplex_cold
 from .instances import cached_instance
 from .warm_simplex import checked_simplex
 
-__all__ = ["Answer", "STATUSES", "BACKENDS", "Backend", "box_rows", "classify"]
+__all__ = ["Answer", "STATUSES", "BACKENDS", "SEQUENCE_BACKENDS", "Backend", "box_rows", "classify"]
 
 STATUSES = ("solved", "candidate", "infeasible", "unbounded", "unsettled")
 
@@ -163,4 +171,9 @@ BACKENDS: dict[str, Backend] = {
     "simplex": highs_simplex,
     "simplex cold": highs_simplex_cold,
     "interior": highs_interior,
+}
+
+#: The sequence backends by name (see the module docstring).
+SEQUENCE_BACKENDS: dict[str, Callable] = {
+    "simplex along time": DirectionModels,
 }

@@ -25,7 +25,7 @@ import scipy.sparse as sp
 
 __all__ = ["SIMPLEX_TOLERANCES", "DECISION_TOLERANCES", "IPM_OPTIMALITY_TOLERANCE", "quiet_highs",
            "rung_iterations", "rung_caps", "lp_model", "factor_model", "settled_point", "ladder",
-           "simplex_cold", "simplex_inequalities", "simplex_box_equalities", "interior_point"]
+           "DirectionModels", "simplex_cold", "simplex_inequalities", "simplex_box_equalities", "interior_point"]
 
 #: HiGHS's primal and dual feasibility tolerances for the support programs, tried in turn (None:
 #: HiGHS's defaults, 1e-7). The defaults alone left duality gaps of ~1e-7 of the objective's scale,
@@ -192,6 +192,52 @@ def ladder(h, tolerances: tuple) -> tuple[str, np.ndarray | None, np.ndarray | N
             break
         h.clearSolver()
     return name, None, None
+
+
+class DirectionModels:
+    """One HiGHS model per objective over a constraint matrix shared by a sequence of programs
+    min q_jᵀξ s.t. Aξ = b, |ξ_i| ≤ h_i (ξ_i free where ``free``), of which only b and h change:
+    each objective's model keeps its optimal basis from one program to the next and is re-solved
+    by the dual simplex method through ``SIMPLEX_TOLERANCES`` (`ladder`). A change of b and h
+    leaves a basis dual feasible (the objective did not change), so the dual method starts at once;
+    nothing is presolved or rebuilt per program. The state of one sequence: one thread at a time.
+
+    Parameters
+    ----------
+    A : scipy.sparse.csc_matrix, shape (m, p)
+    Q : ndarray, shape (K, p)
+        The objectives (minimized).
+    free : ndarray of bool, shape (p,)
+    """
+
+    def __init__(self, A: sp.csc_matrix, Q: np.ndarray, free: np.ndarray):
+        self.A, self.Q, self.free = A, Q, free
+        self.fin = np.flatnonzero(~free).astype(np.int32)
+        self.models: list | None = None
+
+    def solve(self, b: np.ndarray, h: np.ndarray, which: np.ndarray
+              ) -> tuple[np.ndarray, np.ndarray]:
+        """The objectives ``which`` (bool, shape (K,)) over {Aξ = b, |ξ| ≤ h}: (λ, settled) with λ of
+        shape (K, m) in Clarabel's convention (`ladder`), rows of the objectives that did not
+        settle (or were not asked) zero and ``settled`` False."""
+        m, p = self.A.shape
+        if self.models is None:
+            lower = np.where(self.free, -np.inf, -h)
+            self.models = [lp_model(self.A, b, b, lower, -lower) for _ in self.Q]
+            for model, q in zip(self.models, self.Q):
+                model.changeColsCost(p, np.arange(p, dtype=np.int32), q)
+        lam = np.zeros((len(self.Q), m))
+        settled = np.zeros(len(self.Q), dtype=bool)
+        rows = np.arange(m, dtype=np.int32)
+        for j in np.flatnonzero(which):
+            model = self.models[j]
+            model.changeRowsBounds(m, rows, b, b)
+            if self.fin.size:
+                model.changeColsBounds(self.fin.size, self.fin, -h[self.fin], h[self.fin])
+            _, _, multipliers = ladder(model, SIMPLEX_TOLERANCES)  # from the last program's basis
+            if multipliers is not None and np.all(np.isfinite(multipliers)):
+                lam[j], settled[j] = multipliers, True
+        return lam, settled
 
 
 def simplex_cold(pre, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:

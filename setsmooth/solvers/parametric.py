@@ -2,12 +2,13 @@
 
 The OIT-CZ SMF's windows (stability paper (23)) all have the same generator and constraint matrices;
 only the right-hand side b (the measurements), the centre c and, for detectable systems, the finite
-factor bounds h change from step to step. `ParametricSupport` keeps one HiGHS model per direction —
-the LP max{gᵀξ : Aξ = b, |ξ_B| ≤ h_B} with its constraint matrix and objective set up once — and per
-step changes only the row bounds b and the column bounds h, then re-solves by the dual simplex
-method from that direction's previous optimal basis: a change of b and h leaves a basis dual
-feasible (the objective did not change), so the dual method starts at once. Nothing is presolved
-or rebuilt per step.
+factor bounds h change from step to step. `ParametricSupport` asks the solver policy's sequence
+backends ('along time', `policy.policy`): today HiGHS's dual simplex method with one model per
+direction — the LP max{gᵀξ : Aξ = b, |ξ_B| ≤ h_B} with its constraint matrix and objective set up
+once — that per step changes only the row bounds b and the column bounds h and re-solves from that
+direction's previous optimal basis (`highs.DirectionModels`): a change of b and h leaves a basis
+dual feasible (the objective did not change), so the dual method starts at once. Nothing is
+presolved or rebuilt per step.
 
 The warm bases are state of one run, held by a `ParametricSupport.session` that the run makes and
 drops (the OIT-CZ loop makes one per window structure), so a run's answers are a function of its own
@@ -35,7 +36,8 @@ import scipy.sparse as sp
 from ..floating import U, gamma
 from .certify import FREE_BOUND_DENSE_MAX, certified_bound
 from .clarabel_lp import SolverError, _csc
-from .highs import SIMPLEX_TOLERANCES, ladder, lp_model
+from .backends import SEQUENCE_BACKENDS
+from .policy import policy
 
 __all__ = ["ParametricSupport", "WarmSession"]
 
@@ -131,26 +133,20 @@ class ParametricSupport:
 
 
 class WarmSession:
-    """One HiGHS model per direction of a `ParametricSupport`, kept from step to step of one run."""
+    """The sequence backends of a `ParametricSupport` for one run: the attempts of the solver
+    policy's 'along time' purpose (`policy.policy`), each backend's state (e.g. its warm models)
+    kept from step to step."""
 
     def __init__(self, engine: ParametricSupport):
         self.engine = engine
-        self.models: list | None = None
-
-    def _models(self, b: np.ndarray, h: np.ndarray) -> list:
-        e = self.engine
-        if self.models is None:
-            lower = np.where(e.free, -np.inf, -h)
-            self.models = [lp_model(e.A, b, b, lower, -lower) for _ in e._q]
-            for model, q in zip(self.models, e._q):
-                model.changeColsCost(e.ng, np.arange(e.ng, dtype=np.int32), q)
-        return self.models
+        self.states: dict = {}
 
     def values(self, c: np.ndarray, b: np.ndarray, h: np.ndarray, *, pad: np.ndarray | None = None,
                slack: np.ndarray | None = None, pad_free: np.ndarray | None = None,
                slack_free: np.ndarray | None = None) -> np.ndarray:
         """Upper bounds on h_Z(d_j), j = 1..K, for Z = Z(G, c, A, b, h) (certified), each direction
-        re-solved from its basis of the last call (the dual simplex method after a change of b and h).
+        asked of the policy's sequence backends in turn (HiGHS's dual simplex method from the
+        direction's basis of the last call), what they leave to the set's verified path.
 
         Parameters
         ----------
@@ -174,15 +170,15 @@ class WarmSession:
         K = e.D.shape[0]
         lam = np.zeros((K, e.nc))
         ok = np.zeros(K, dtype=bool)
-        rows = np.arange(e.nc, dtype=np.int32)
-        fin = e.fin.astype(np.int32)
-        for j, model in enumerate(self._models(b, h)):
-            model.changeRowsBounds(e.nc, rows, b, b)
-            if fin.size:
-                model.changeColsBounds(fin.size, fin, -h[e.fin], h[e.fin])
-            _, _, settled = ladder(model, SIMPLEX_TOLERANCES)  # from the last step's basis
-            if settled is not None and np.all(np.isfinite(settled)):
-                lam[j], ok[j] = settled, True
+        for attempt in policy(e, "along time"):
+            state = self.states.get(attempt.backend)
+            if state is None:
+                state = self.states[attempt.backend] = SEQUENCE_BACKENDS[attempt.backend](
+                    e.A, e._q, e.free)
+            found, settled = state.solve(b, h, ~ok)
+            lam[settled], ok = found[settled], ok | settled
+            if ok.all():
+                break
         charges = {"pad": pad, "slack": slack, "pad_free": pad_free, "slack_free": slack_free}
         out = np.empty(K)
         if ok.any():

@@ -24,6 +24,14 @@ Purposes:
   multipliers exact to rounding, from HiGHS's own presolve and scaling rather than another
   objective's basis), then a refined interior-point solve.
 
+One purpose concerns a sequence of programs rather than one:
+
+* 'along time': programs over one constraint matrix whose b and factor bounds change from one to
+  the next, the same directions asked of each (the OIT-CZ windows, `parametric.ParametricSupport`).
+  The sequence backends (`backends.SEQUENCE_BACKENDS`) keep state along it: HiGHS's dual simplex
+  method from each direction's last optimal basis. A direction they leave unsettled, or whose
+  certificate fails, goes to the set's own verified support ('bracketed', then 'escalated').
+
 An attempt ``on_full`` runs on the fully presolved program (linearly dependent rows dropped by a
 rank-revealing QR, built only when the attempt is reached); where that program is the kept one, it
 is the same attempt as without ``on_full`` and is asked only if that one is not in the policy.
@@ -33,7 +41,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["Attempt", "policy", "POLICIES", "PURPOSES"]
+__all__ = ["Attempt", "policy", "POLICIES", "PURPOSES", "SEQUENCE_PURPOSES"]
 
 
 @dataclass(frozen=True)
@@ -55,9 +63,15 @@ POLICIES: dict[str, tuple[Attempt, ...]] = {
     "bracketed": (Attempt("simplex"), Attempt("clarabel")) + FALLBACKS,
     "escalated": (Attempt("simplex cold"), Attempt("clarabel refined"),
                   Attempt("clarabel refined", True), Attempt("interior")),
+    "along time": (Attempt("simplex along time"),),
 }
 
+#: The purposes of one program's objectives (`FactorConstraints.maximize`), whose attempts name
+#: `backends.BACKENDS`.
 PURPOSES = ("plain", "bracketed", "escalated")
+
+#: The purposes of a sequence of programs, whose attempts name `backends.SEQUENCE_BACKENDS`.
+SEQUENCE_PURPOSES = ("along time",)
 
 
 def policy(program, purpose: str) -> tuple[Attempt, ...]:
@@ -65,12 +79,13 @@ def policy(program, purpose: str) -> tuple[Attempt, ...]:
 
     Parameters
     ----------
-    program : Presolved
-        The kept presolved program (the order does not depend on it today; the argument keeps
-        the policy a function of the program and the purpose).
-    purpose : {'plain', 'bracketed', 'escalated'}
+    program : Presolved or ParametricSupport
+        The kept presolved program, or the sequence's engine for 'along time' (the order does not
+        depend on it today; the argument keeps the policy a function of the program and the
+        purpose).
+    purpose : {'plain', 'bracketed', 'escalated', 'along time'}
         What the caller does with the answer (module docstring).
     """
-    if purpose not in PURPOSES:
-        raise ValueError(f"purpose must be one of {PURPOSES}, got {purpose!r}")
+    if purpose not in PURPOSES + SEQUENCE_PURPOSES:
+        raise ValueError(f"purpose must be one of {PURPOSES + SEQUENCE_PURPOSES}, got {purpose!r}")
     return POLICIES[purpose]

@@ -245,6 +245,45 @@ def test_a_warm_session_agrees_with_cold_solves_and_depends_on_its_own_steps_onl
         assert np.array_equal(warm, again)
 
 
+def test_a_session_asks_the_policys_sequence_backends_and_the_verified_path_takes_the_rest(
+        monkeypatch):
+    """The windows' solver is chosen by the solver policy ('along time'), not by the engine: a
+    sequence backend recorded there is the one asked, and directions it leaves unsettled get the
+    set's own verified bounds, equal to what the HiGHS backend's certificate gives to 1e-7 of the
+    width."""
+    from setsmooth.solvers import backends, parametric, policy
+
+    rng = np.random.default_rng(5)
+    system = analysis.random_observable_system(rng, 3, 2, 2).linear_system()
+    xs, ys = ss.simulate(system, box(3.0, 3), 8, rng)
+    res = ss.oit_cz_filter(system, box(3.0, 3), ys, delta_bar=2)
+    Z = res.estimates[4]
+    D = np.vstack([np.eye(3), -np.eye(3)])
+    engine = ParametricSupport(Z.G, Z.A, D, np.isinf(Z.h))
+    assert policy.policy(engine, "along time") == (policy.Attempt("simplex along time"),)
+    real = engine.values(Z.c, Z.b, Z.h)
+    asked = []
+
+    class Halfway(backends.SEQUENCE_BACKENDS["simplex along time"]):
+        def solve(self, b, h, which):  # settles the first half of the directions only
+            asked.append(which.copy())
+            lam, settled = super().solve(b, h, which)
+            settled[3:] = False
+            return lam, settled
+
+    monkeypatch.setitem(policy.POLICIES, "along time", (policy.Attempt("halfway"),))
+    monkeypatch.setitem(parametric.SEQUENCE_BACKENDS, "halfway", Halfway)
+    session = engine.session()
+    for W in res.estimates[2:]:
+        values = session.values(W.c, W.b, W.h)
+        exact = W.support_many(D)
+        width = np.tile(exact[:3] + exact[3:], 2)
+        assert np.all(values >= exact - 1e-9 * width)
+        assert np.all(np.abs(values - engine.values(W.c, W.b, W.h)) <= 1e-7 * width)
+    assert len(asked) == 2 * 7 and all(w.all() for w in asked)  # the session's and the cold ones
+    assert np.all(np.abs(session.values(Z.c, Z.b, Z.h) - real) <= 1e-7 * np.tile(real[:3] + real[3:], 2))
+
+
 # -- bad input -------------------------------------------------------------------------------------------
 def test_bad_arguments_are_named():
     system = example_25()

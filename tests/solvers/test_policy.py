@@ -70,6 +70,16 @@ def test_the_policy_is_data_a_function_of_the_purpose():
         policy(pre, "fast")
 
 
+def test_the_sequence_purposes_name_sequence_backends():
+    from setsmooth.solvers.backends import SEQUENCE_BACKENDS
+    from setsmooth.solvers.policy import SEQUENCE_PURPOSES
+
+    assert not set(SEQUENCE_PURPOSES) & set(PURPOSES)
+    for purpose in SEQUENCE_PURPOSES:
+        attempts = policy(None, purpose)
+        assert attempts and all(a.backend in SEQUENCE_BACKENDS and not a.on_full for a in attempts)
+
+
 @pytest.mark.parametrize("purpose", PURPOSES)
 def test_a_support_whose_every_backend_is_unsettled_is_relaxed_on_the_solved_program(
         monkeypatch, purpose):
