@@ -132,7 +132,7 @@ def test_the_single_row_basis_of_cz_vertices_is_independent_rows_answer(scale):
     """`cz_vertices` answers one finite non-zero row without a QR: as `linalg.independent_rows` does,
     down to the smallest normal norm, for zero, subnormal, huge (overflowing) and NaN rows alike."""
     from setsmooth.linalg import independent_rows
-    from setsmooth.sets.cz_vertices import _row_basis
+    from setsmooth.sets.cz_vertices import row_basis
 
     rng = np.random.default_rng(3)
     rows = [scale * rng.standard_normal((1, k)) for k in (1, 3, 9)]
@@ -148,4 +148,59 @@ def test_the_single_row_basis_of_cz_vertices_is_independent_rows_answer(scale):
     with np.errstate(over="ignore", invalid="ignore"):  # the norms of the huge rows overflow
         for A in rows:
             b = rng.standard_normal(1)
-            assert answer(_row_basis, A, b) == answer(independent_rows, A, b)
+            assert answer(row_basis, A, b) == answer(independent_rows, A, b)
+
+
+def test_the_row_basis_of_clearly_independent_rows_is_independent_rows_answer(monkeypatch):
+    """`row_basis` answers several clearly independent rows without a QR, as `linalg.independent_rows`
+    does; nearly dependent, dependent, zero and scaled rows give its answer too (through it or not)."""
+    import setsmooth.sets.cz_vertices as czv
+    from setsmooth.linalg import independent_rows
+
+    rng = np.random.default_rng(5)
+    cases = []
+    for nc in (2, 3, 4, 5):
+        for ng in (nc, nc + 3, 12, 40):
+            A = rng.standard_normal((nc, ng))
+            cases.append(A)
+            cases.append(A * np.array([1e-200, 1.0, 1e150, 1e-3, 7.0])[:nc, None])
+            for eps in (1e-2, 1e-4, 1e-6, 1e-9, 1e-12, 0.0):   # row 1 nearly a multiple of row 0
+                B = A.copy()
+                B[1] = -3.0 * A[0] + eps * rng.standard_normal(ng)
+                cases.append(B)
+            Z = A.copy()
+            Z[-1] = 0.0
+            cases.append(Z)
+
+    def answer(f, A, b):
+        basis = f(A, b)
+        return basis.keep.tolist(), basis.consistent
+
+    fast = 0
+    for A in cases:
+        for b in (rng.standard_normal(A.shape[0]), np.zeros(A.shape[0])):
+            expected = answer(independent_rows, A, b)
+            assert answer(czv.row_basis, A, b) == expected
+            with monkeypatch.context() as m:
+                m.setattr(czv, "independent_rows", lambda *a: None)
+                try:
+                    assert answer(czv.row_basis, A, b) == expected
+                    fast += 1
+                except AttributeError:   # went to the QR
+                    pass
+    assert fast >= 50   # most random rows, for both right-hand sides, took the fast answer
+
+
+def test_cz_vertices_are_kept_on_the_set_read_only():
+    """A second enumeration of the same set returns the first one's array (read-only), equal bit for
+    bit to a fresh enumeration; a non-default ``max_candidates`` enumerates anew."""
+    from setsmooth.sets.cz_vertices import _enumerated_vertices, cz_vertices
+
+    rng = np.random.default_rng(11)
+    for nc in (0, 1, 2):
+        Z = ss.ConstrainedZonotope(rng.standard_normal((3, 6)), rng.standard_normal(3),
+                                   A=rng.standard_normal((nc, 6)), b=0.1 * rng.standard_normal(nc))
+        V = cz_vertices(Z)
+        assert cz_vertices(Z) is V and not V.flags.writeable
+        assert V.tobytes() == _enumerated_vertices(Z, 300_000).tobytes()
+        assert cz_vertices(Z, max_candidates=10) is not V

@@ -24,12 +24,12 @@ import numpy as np
 from ...floating import gamma
 from ..box import Box
 from ..constrained_zonotope import ConstrainedZonotope
+from ..cz_vertices import row_basis
 from ..empty import EmptySet
 from ..zonotope import Zonotope
 from ._base import CZData, ReductionMethod
 from .exact import DropDependentConstraints, DropZeros
 from .rescale import RESCALE_FLOOR, propagate, rescale_data
-from ...linalg import independent_rows
 from ...solvers import SolverError
 
 __all__ = ["EliminateConstraints", "eliminate_factor"]
@@ -239,7 +239,7 @@ def _rescaled(d: CZData, original: "_Emptiness"):
     # A dependent row that disagrees is roundoff of the re-centring b − A m (a pinned factor leaves a
     # point-like set, where that roundoff is all there is): emptiness is judged on the data before
     # rescaling, which the rescaled data re-parametrize.
-    basis = independent_rows(out.A, out.b)
+    basis = row_basis(out.A, out.b)   # linalg.independent_rows' answer
     if not basis.consistent and original.proven():
         return None
     return out.keep_rows(basis.keep), r, inside

@@ -20,9 +20,9 @@ import numpy as np
 
 from ... import tolerances as tol
 from ...floating import gamma
-from ...linalg import independent_rows
 from ..box import Box
 from ..constrained_zonotope import ConstrainedZonotope
+from ..cz_vertices import row_basis
 from ..empty import EmptySet
 from ..zonotope import Zonotope
 from ._base import CZData, ReductionMethod, abs_sum_upper, round_up
@@ -94,7 +94,7 @@ class DropDependentConstraints(ReductionMethod):
         if Z.nc == 0:
             return Z
         d = CZData.of(Z)
-        basis = independent_rows(d.A, d.b)
+        basis = row_basis(d.A, d.b)   # linalg.independent_rows' answer, without its QR when clear
         if not basis.consistent and Z.is_empty():
             return EmptySet(Z.dim)
         return Z if basis.keep.size == Z.nc else d.keep_rows(basis.keep).to_set()
