@@ -56,10 +56,24 @@ def trial(rng: np.random.Generator) -> dict:
         result[f"classical_{k}"] = polygon(classical[k])
         result[f"optimal_{k}"] = polygon(optimal)
         result[f"inside_{k}"] = [bool(classical[k].contains(xs[k])), bool(optimal.contains(xs[k]))]
-        # Theorem 3 on support values: h_optimal(d) ≤ h_classical(d) up to the solver's accuracy.
-        gap = optimal.support_many(DIRECTIONS) - classical[k].support_many(DIRECTIONS)
+        gap = optimal.support_many(DIRECTIONS) - inner_support(result[f"classical_{k}"], DIRECTIONS)
         result[f"contained_{k}"] = bool(np.all(gap <= 1e-6 * (1 + np.abs(xs[k]).max())))
     return result
+
+
+def inner_support(vertices: np.ndarray, D: np.ndarray) -> np.ndarray:
+    """max_v dᵀv over the polygon's vertices, for every row d of ``D``: the classical side of the
+    Theorem-3 check, h_optimal(d) ≤ h_classical(d) up to the solver's accuracy.
+
+    The vertices are support points the solver found in the classical posterior (`vertices_2d`), so
+    this is a lower bound on h_classical(d) — the side on which a lower bound keeps the check sound:
+    the optimal side stays the solver's support values (an inner polygon there could hide a
+    violation), and a polygon the walk left short only makes the check stricter. It spares the
+    classical set its 64 support solves; on polytopes it equals them to rounding (tested).
+    """
+    if len(vertices) == 0:
+        return np.full(len(D), -np.inf)
+    return (vertices @ D.T).max(axis=0)
 
 
 #: Directions of the support-value check of Theorem 3.
