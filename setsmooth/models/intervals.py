@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import real_array, real_number
+from .._validation import _FLOATS, real_array, real_number
 from ..results import IntervalEstimates  # noqa: F401  (its old home: importable from here)
 
 __all__ = ["eval_eta", "noise_intervals", "as_interval"]
@@ -61,9 +61,12 @@ def eval_eta(eta: Callable[[float], float], x: float) -> float:
     >>> eval_eta(lambda x: x ** 3, 2)
     8.0
     """
-    value = real_number(eta(float(x)), f"eta({float(x)!r})")
-    if np.isnan(value):
-        raise ValueError(f"eta({float(x)!r}) returned NaN; eta must be defined on all of R")
+    x = float(x)
+    value = eta(x)
+    # Called at every step: a float is taken as it is, anything else checked naming the call.
+    value = float(value) if type(value) in _FLOATS else real_number(value, f"eta({x!r})")
+    if value != value:
+        raise ValueError(f"eta({x!r}) returned NaN; eta must be defined on all of R")
     return value
 
 
@@ -88,6 +91,12 @@ def as_interval(value: Any, name: str, allow_inf: bool) -> tuple[float, float]:
     >>> as_interval([-1, 2], "w", allow_inf=False)
     (-1.0, 2.0)
     """
+    if type(value) is tuple and len(value) == 2 and type(value[0]) in _FLOATS and type(value[1]) in _FLOATS:
+        # A callback's pair at every step: returned when every check below passes (NaN fails lo <= hi),
+        # else checked below for the message.
+        lo, hi = float(value[0]), float(value[1])
+        if lo <= hi and (allow_inf or (-np.inf < lo and hi < np.inf)):
+            return lo, hi
     arr = real_array(value, name, "a pair of numbers (lo, hi)").reshape(-1)
     if arr.shape != (2,):
         raise ValueError(f"{name} must be a pair (lo, hi) of shape (2,), got shape {np.shape(value)}")
