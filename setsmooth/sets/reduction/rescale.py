@@ -79,8 +79,10 @@ def gauss_jordan(A: np.ndarray) -> np.ndarray:
         cols.append(j)
         if step + 1 < pivots:         # no search follows the last pivot
             free = np.abs(M[:, :ng])
-            free[rows] = -1.0
-            free[:, cols] = -1.0
+            for r in rows:            # (a row or column at a time: cheaper than a list index)
+                free[r] = -1.0
+            for c in cols:
+                free[:, c] = -1.0
     order = rows
     P = M[order, ng:]
     norms = np.abs(M[order, :ng]).sum(axis=1)
@@ -146,21 +148,30 @@ def propagate(A: np.ndarray, b: np.ndarray, h: np.ndarray) -> FactorBounds:
     # Σ_l [alo_l, ahi_l] ξ_l ∋ bp_i ± db_i.
     # The factor 2 covers the rounding of |P||A| itself; an exact zero stays zero.
     g = 2.0 * gamma(nc + 1)
-    dA = g * (np.abs(P) @ np.abs(A))
-    db = g * (np.abs(P) @ np.abs(b))
+    absP = np.abs(P)
+    dA = g * (absP @ np.abs(A))
+    db = g * (absP @ np.abs(b))
     # dA = 0 only where every term of the product was zero: that coefficient is exactly 0.
     empty_here = False
-    Alo = np.where(dA == 0.0, Ap, round_down(Ap - dA))
-    Ahi = np.where(dA == 0.0, Ap, round_up(Ap + dA))
+    exact = dA == 0.0
+    Alo = np.where(exact, Ap, round_down(Ap - dA))
+    Ahi = np.where(exact, Ap, round_up(Ap + dA))
     seen = (Alo != 0.0) | (Ahi != 0.0)   # the factors of each row, found for all rows at once
+    every = seen.all(axis=1)             # a row that sees every factor works on whole arrays
+    # A divisor interval containing 0 bounds nothing (`_row`); decided for all rows at once.
+    ok = (Alo > 0.0) | (Ahi < 0.0)
+    bounds_all = (ok | ~seen).all(axis=1)
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         for i in range(Ap.shape[0]):
-            cols = seen[i].nonzero()[0]
-            qlo, qhi = _row(Alo[i, cols], Ahi[i, cols], lo[cols], hi[cols], bp[i], db[i])
+            # Whole rows instead of an index of every column: the same elements in the same order.
+            cols = slice(None) if every[i] else seen[i].nonzero()[0]
+            xlo, xhi = lo[cols], hi[cols]
+            qlo, qhi = _row(Alo[i, cols], Ahi[i, cols], xlo, xhi, bp[i], db[i],
+                            None if bounds_all[i] else ok[i, cols])
             qlo = np.maximum(qlo, Rlo[cols])
             qhi = np.minimum(qhi, Rhi[cols])
             Rlo[cols], Rhi[cols] = qlo, qhi
-            nlo, nhi = np.maximum(lo[cols], qlo), np.minimum(hi[cols], qhi)
+            nlo, nhi = np.maximum(xlo, qlo), np.minimum(xhi, qhi)
             crossed = nlo > nhi
             if crossed.any():
                 # Rigorous for the data as stored, but the data carry the rounding of the set algebra
@@ -173,9 +184,10 @@ def propagate(A: np.ndarray, b: np.ndarray, h: np.ndarray) -> FactorBounds:
     return FactorBounds(lo, hi, Rlo, Rhi, empty_here)
 
 
-def _row(alo, ahi, xlo, xhi, beta, dbeta):
+def _row(alo, ahi, xlo, xhi, beta, dbeta, ok=None):
     """The range of each ξ_j implied by one row Σ_l [alo_l, ahi_l] ξ_l ∈ [β − dβ, β + dβ] and the
-    other factors' boxes ξ_l ∈ [xlo_l, xhi_l], rounded outward.
+    other factors' boxes ξ_l ∈ [xlo_l, xhi_l], rounded outward; unbounded where ``ok`` is False (the
+    divisor interval [alo_j, ahi_j] contains 0; None: every one excludes it).
     """
     p1, p2, p3, p4 = alo * xlo, alo * xhi, ahi * xlo, ahi * xhi
     # fmin/fmax skip the NaN of 0·∞ (a zero coefficient endpoint against an unbounded box): the
@@ -196,8 +208,8 @@ def _row(alo, ahi, xlo, xhi, beta, dbeta):
     q1, q2, q3, q4 = nlo / alo, nlo / ahi, nhi / alo, nhi / ahi
     qlo = round_down(np.fmin(np.fmin(q1, q2), np.fmin(q3, q4)))
     qhi = round_up(np.fmax(np.fmax(q1, q2), np.fmax(q3, q4)))
-    # A divisor interval containing 0 bounds nothing.
-    ok = (alo > 0.0) | (ahi < 0.0)
+    if ok is None:
+        return qlo, qhi
     return np.where(ok, qlo, -np.inf), np.where(ok, qhi, np.inf)
 
 
