@@ -17,6 +17,7 @@ import numpy as np
 
 import setsmooth as ss
 from setsmooth import montecarlo
+from setsmooth.sets.vertices_2d import boundary_walk, support_bound_2d
 from setsmooth.papers.rethinking_examples import (rethinking_example_30, rethinking_example_30_joint_range,
                                                   rethinking_example_30_x0)
 
@@ -54,23 +55,32 @@ def trial(rng: np.random.Generator) -> dict:
     for k in ex.FIG3_STEPS:
         optimal = ss.joint_trajectory_set(system, joint, ys, k).project([2 * k, 2 * k + 1])
         result[f"classical_{k}"] = polygon(classical[k])
-        result[f"optimal_{k}"] = polygon(optimal)
+        result[f"optimal_{k}"], normals, values = boundary_walk(optimal)
         result[f"inside_{k}"] = [bool(classical[k].contains(xs[k])), bool(optimal.contains(xs[k]))]
-        gap = optimal.support_many(DIRECTIONS) - inner_support(result[f"classical_{k}"], DIRECTIONS)
+        gap = outer_support(normals, values) - inner_support(result[f"classical_{k}"], DIRECTIONS)
         result[f"contained_{k}"] = bool(np.all(gap <= 1e-6 * (1 + np.abs(xs[k]).max())))
     return result
 
 
-def inner_support(vertices: np.ndarray, D: np.ndarray) -> np.ndarray:
-    """max_v dᵀv over the polygon's vertices, for every row d of ``D``: the classical side of the
-    Theorem-3 check, h_optimal(d) ≤ h_classical(d) up to the solver's accuracy.
+# Theorem 3 on support values, h_optimal(d) ≤ h_classical(d) up to the solver's accuracy, checked as
+# (an upper bound on h_optimal(d)) ≤ (a lower bound on h_classical(d)) + tol: a sufficient condition,
+# so bounds that are loose can only make the check fail. Both come from what the polygons' walks
+# (`vertices_2d`) asked the solver anyway, in place of 64 support solves per set and step, and each
+# side from its own set; neither assumes the walk found every vertex.
 
-    The vertices are support points the solver found in the classical posterior (`vertices_2d`), so
-    this is a lower bound on h_classical(d) — the side on which a lower bound keeps the check sound:
-    the optimal side stays the solver's support values (an inner polygon there could hide a
-    violation), and a polygon the walk left short only makes the check stricter. It spares the
-    classical set its 64 support solves; on polytopes it equals them to rounding (tested).
-    """
+def outer_support(normals: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """Upper bounds on h_optimal(d), d in `DIRECTIONS`, from the support values the optimal set's walk
+    asked for (weak duality over their half-planes, `support_bound_2d`): no point of the polygon
+    enters, so a vertex the walk missed cannot lower them. ``-inf`` for the empty set."""
+    if len(normals) == 0:
+        return np.full(len(DIRECTIONS), -np.inf)
+    return support_bound_2d(normals, values, DIRECTIONS)
+
+
+def inner_support(vertices: np.ndarray, D: np.ndarray) -> np.ndarray:
+    """max_v dᵀv over the polygon's vertices for every row d of ``D``: lower bounds on
+    h_classical(d), as the vertices are support points the solver found in the classical posterior
+    (the old reference, a solver value, was dᵀx* of one such point). ``-inf`` for the empty set."""
     if len(vertices) == 0:
         return np.full(len(D), -np.inf)
     return (vertices @ D.T).max(axis=0)

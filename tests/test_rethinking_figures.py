@@ -48,25 +48,34 @@ def test_fig3_optimal_polygons_are_inside_classical_ones_and_paper_values_are_pl
     assert set(ex.PAPER_AREA_RATIOS) == {10, 20}
 
 
-def test_fig3_classical_side_of_the_check_equals_its_support_values(figures):
-    # The Theorem-3 check reads h_classical off the classical polygon instead of 64 support solves:
-    # the polygon's vertices are points of the set, so the value can only be lower (a stricter
-    # check), and on these polytopes it is the same value to rounding.
+def test_fig3_check_bounds_equal_the_support_values_they_replace(figures):
+    # The Theorem-3 check bounds h_optimal from above by the optimal walk's half-planes and h_classical
+    # from below by the classical polygon's vertices, instead of 64 support solves per set: on these
+    # polytopes both equal the solved support values to rounding, and each is on its safe side.
     import setsmooth as ss
-    from setsmooth.papers.rethinking_examples import rethinking_example_30, rethinking_example_30_x0
+    from setsmooth.papers.rethinking_examples import (rethinking_example_30, rethinking_example_30_joint_range,
+                                                      rethinking_example_30_x0)
+    from setsmooth.sets.vertices_2d import boundary_walk
 
     fig3 = figures("rethinking_fig3")
+    system = rethinking_example_30()
     _, ys = fig3.simulate(np.random.default_rng(3), 20)
-    classical = ss.classical_filter(rethinking_example_30(), rethinking_example_30_x0(), ys)
+    classical = ss.classical_filter(system, rethinking_example_30_x0(), ys)
     for k in (0, 10, 20):
-        solved = classical[k].support_many(fig3.DIRECTIONS)
-        read = fig3.inner_support(fig3.polygon(classical[k]), fig3.DIRECTIONS)
-        assert np.all(read <= solved + 1e-12 * np.abs(solved).max())
-        assert read == pytest.approx(solved, rel=0, abs=1e-9 * np.abs(solved).max())
+        optimal = ss.joint_trajectory_set(system, rethinking_example_30_joint_range(20), ys, k).project(
+            [2 * k, 2 * k + 1])
+        for S, bound, side in ((classical[k], fig3.inner_support(fig3.polygon(classical[k]), fig3.DIRECTIONS), 1),
+                               (optimal, fig3.outer_support(*boundary_walk(optimal)[1:]), -1)):
+            solved = S.support_many(fig3.DIRECTIONS)
+            scale = np.abs(solved).max()
+            assert bound == pytest.approx(solved, rel=0, abs=1e-9 * scale)
+            assert np.all(side * (bound - solved) <= 1e-13 * scale)      # below / above, up to rounding
+        assert np.array_equal(boundary_walk(optimal)[0], fig3.polygon(optimal))
     box = ss.Box([149.0, -1.0], [150.0, 0.0])
     assert fig3.inner_support(fig3.polygon(box), fig3.DIRECTIONS) == pytest.approx(
         box.support_many(fig3.DIRECTIONS), rel=1e-12)
     assert np.all(fig3.inner_support(np.zeros((0, 2)), fig3.DIRECTIONS) == -np.inf)
+    assert np.all(fig3.outer_support(np.zeros((0, 2)), np.zeros(0)) == -np.inf)
 
 
 def test_fig3_polygon_is_the_hull_of_the_boundary_points(figures):

@@ -9,6 +9,10 @@ queried as one stacked program. Each round keeps the convex hull of the points f
 point computed to the solver's accuracy can fall a little inside the current polygon or beside the
 chord it was asked for (thin sets far from the origin), and splicing it in by position would make the
 walk wind round the polygon several times.
+
+`boundary_walk` also returns the support values the walk asked for; `support_bound_2d` turns such
+values into upper bounds on the support function along any direction (weak duality in the plane),
+without using the support points.
 """
 
 from __future__ import annotations
@@ -43,15 +47,38 @@ def vertices_2d(S, tol: float | None = None, max_vertices: int = 512) -> np.ndar
     ValueError
         If ``S.dim != 2`` or the set is unbounded.
     """
+    return boundary_walk(S, tol, max_vertices)[0]
+
+
+def boundary_walk(S, tol: float | None = None, max_vertices: int = 512
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """`vertices_2d`'s vertices with the support values the walk asked for on the way.
+
+    Returns
+    -------
+    vertices : ndarray, shape (k, 2)
+        ``vertices_2d(S, tol, max_vertices)``, the same array.
+    normals, values : ndarray, shapes (q, 2) and (q,)
+        Every direction queried (unit rows) and the solver's support value h_S along it: each
+        ``normals[i]ᵀ x ≤ values[i]`` holds on S to the solver's accuracy, whether or not the walk
+        found every vertex, so `support_bound_2d` of them bounds h_S from above. Empty for the
+        empty set.
+
+    Raises
+    ------
+    ValueError
+        As `vertices_2d`.
+    """
     if S.dim != 2:
         raise ValueError(f"vertices_2d needs a 2-D set, got dim = {S.dim} (project it first)")
     if S.is_empty():
-        return np.zeros((0, 2))
+        return np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0)
     angles = 2 * np.pi * (np.arange(8) + 0.1234) / 8
     D = np.column_stack([np.cos(angles), np.sin(angles)])
     values, points = S._support_points(D, "auto", False)
     if not np.isfinite(values).all():
         raise ValueError("vertices_2d needs a bounded set; this one is unbounded")
+    asked, answers = [D], [values]
     extent = np.ptp(points, axis=0).max()
     eps = tol if tol is not None else tol_policy.scaled(tol_policy.VERTEX_TOL, extent)
     poly = _dedupe(_convex_hull(points), eps)
@@ -62,6 +89,8 @@ def vertices_2d(S, tol: float | None = None, max_vertices: int = 512) -> np.ndar
         lengths = np.linalg.norm(normals, axis=1)
         normals = normals / lengths[:, None]
         values, found = S._support_points(normals, "auto", False)
+        asked.append(normals)
+        answers.append(values)
         gap = values - np.einsum("ij,ij->i", normals, poly)
         grow = np.flatnonzero(gap > eps)
         if grow.size == 0:
@@ -70,7 +99,35 @@ def vertices_2d(S, tol: float | None = None, max_vertices: int = 512) -> np.ndar
         if len(grown) == len(poly) and np.array_equal(grown, poly):
             break   # the new points were inside to within rounding: nothing left to refine
         poly = grown
-    return _drop_collinear(poly, eps)
+    return _drop_collinear(poly, eps), np.vstack(asked), np.concatenate(answers)
+
+
+def support_bound_2d(normals: np.ndarray, values: np.ndarray, D: np.ndarray) -> np.ndarray:
+    """Upper bounds on h_S(d) for the rows d of ``D`` from support values ``values[i]`` ≥ h_S(nᵢ).
+
+    Weak duality in the plane: d = a nᵢ + b nⱼ with a, b ≥ 0 gives dᵀx ≤ a hᵢ + b hⱼ on S, and the
+    least such bound over all pairs (and over single nᵢ parallel to d) is the support of the
+    polygon {x : nᵢᵀx ≤ hᵢ for all i} ⊇ S. It uses no support point, so a walk that missed part of S
+    cannot make it smaller than h_S; where the walk is exact it equals h_S up to the rounding of a
+    and b. ``+inf`` where no pair spans d (fewer than three directions around the circle).
+    """
+    N, h = np.asarray(normals, dtype=float), np.asarray(values, dtype=float)
+    D = np.asarray(D, dtype=float)
+
+    def cross(u, v):
+        return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+
+    det = cross(N[:, None, :], N[None, :, :])                       # (q, q)
+    dn = cross(D[:, None, :], N[None, :, :])                        # (k, q): d × nⱼ
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a = dn[:, None, :] / det                                    # (k, i, j): coefficient of nᵢ
+        b = -dn[:, :, None] / det                                   # nᵢ × d = −(d × nᵢ)
+        pair = a * h[:, None] + b * h[None, :]
+        ok = (det != 0) & (a >= 0) & (b >= 0)
+        bound = np.where(ok, pair, np.inf).min(axis=(1, 2), initial=np.inf)
+        along = D @ N.T                                             # (k, q): d = (dᵀnᵢ) nᵢ when parallel
+        single = np.where((dn == 0) & (along > 0), along * h, np.inf).min(axis=1, initial=np.inf)
+    return np.minimum(bound, single)
 
 
 def _convex_hull(points: np.ndarray) -> np.ndarray:

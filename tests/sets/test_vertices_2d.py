@@ -116,3 +116,38 @@ def test_thin_posterior_far_from_the_origin_gives_one_convex_loop():
     assert headings[-1] - headings[0] == pytest.approx(2 * np.pi, abs=1e-6)   # exactly one turn
     D = np.column_stack([np.cos(np.linspace(0, 2 * np.pi, 48)), np.sin(np.linspace(0, 2 * np.pi, 48))])
     np.testing.assert_allclose((v @ D.T).max(axis=0), S.support_many(D), atol=1e-6)
+
+
+def test_the_walk_returns_vertices_2d_and_support_half_planes_that_hold_on_the_set():
+    from setsmooth.sets.vertices_2d import boundary_walk
+
+    for S in (ss.Box([149.0, -1.0], [150.0, 0.0]), ss.Ellipsoid([1.0, 2.0], np.diag([4.0, 0.25])),
+              ss.Zonotope([[1.0, 2.0, 0.5], [0.0, 1.0, -1.0]], [3.0, -2.0]),
+              ss.Zonotope([[1.0], [1.0]], [0.0, 0.0])):
+        V, N, h = boundary_walk(S)
+        assert np.array_equal(V, vertices_2d(S))
+        assert np.allclose(np.linalg.norm(N, axis=1), 1.0) and len(N) >= 8
+        assert np.allclose(h, S.support_many(N), rtol=0, atol=1e-9 * (1 + np.abs(h).max()))
+    V, N, h = boundary_walk(ss.EmptySet(2))
+    assert V.shape == N.shape == (0, 2) and h.shape == (0,)
+
+
+def test_support_bound_of_the_walks_half_planes_is_the_polytopes_support_and_never_below_it():
+    from setsmooth.sets.vertices_2d import boundary_walk, support_bound_2d
+
+    t = np.linspace(0, 2 * np.pi, 64, endpoint=False)
+    D = np.column_stack([np.cos(t), np.sin(t)])
+    for S in (ss.Box([149.0, -1.0], [150.0, 0.0]),
+              ss.HPolytope([[1.0, 1.0], [-1.0, 0.0], [0.0, -1.0]], [1.0, 0.0, 0.0]),
+              ss.Zonotope([[1.0, 2.0, 0.5], [0.0, 1.0, -1.0]], [3.0, -2.0])):
+        _, N, h = boundary_walk(S)
+        exact = S.support_many(D)
+        # to the solver's accuracy (the triangle's values come from an interior-point solver)
+        assert support_bound_2d(N, h, D) == pytest.approx(exact, rel=0, abs=1e-9 * np.abs(exact).max())
+    # Half-planes of a square alone, its corners never asked for: the bound is the square's support,
+    # from the half-planes, not from points (a walk short of a corner cannot lower it).
+    N = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]])
+    bound = support_bound_2d(N, np.ones(4), D)
+    assert bound == pytest.approx(np.abs(D).sum(axis=1), rel=1e-15)
+    # Directions that do not span the plane bound nothing across the gap.
+    assert np.isinf(support_bound_2d(N[:2], np.ones(2), np.array([[-1.0, -1.0]]))).all()
