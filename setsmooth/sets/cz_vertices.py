@@ -114,7 +114,8 @@ def _enumerated_vertices(Z, max_candidates: int) -> np.ndarray | None:
     beta, rest = _bases(ng, nc)
     Ab = np.transpose(A[:, beta], (1, 0, 2))                           # (nb, nc, nc)
     is_basis = np.abs(np.linalg.det(Ab)) > tol.RANK_TOL
-    beta, rest, Ab = beta[is_basis], rest[is_basis], Ab[is_basis]
+    if not is_basis.all():   # (the solve copies Ab into LAPACK's layout either way)
+        beta, rest, Ab = beta[is_basis], rest[is_basis], Ab[is_basis]
     if beta.shape[0] == 0:
         return np.zeros((0, c.size))
     S = _signs(ng - nc)                                                # (2^k, k)
@@ -122,7 +123,8 @@ def _enumerated_vertices(Z, max_candidates: int) -> np.ndarray | None:
     eta_beta = np.linalg.solve(Ab, rhs)                                # (nb, nc, 2^k)
     ok = np.all(np.abs(eta_beta) <= 1.0 + slack, axis=1)               # (nb, 2^k)
     basis_of, pattern = np.nonzero(ok)
-    eta_b = np.clip(eta_beta[basis_of, :, pattern], -1.0, 1.0)         # (p, nc)
+    # np.clip's values (min(max(η, −1), 1)) without its argument handling.
+    eta_b = np.minimum(np.maximum(eta_beta[basis_of, :, pattern], -1.0), 1.0)   # (p, nc)
     Gb = np.transpose(G[:, beta], (1, 0, 2))                           # (nb, n, nc)
     Gr = np.transpose(G[:, rest], (1, 0, 2))                           # (nb, n, k)
     return (c + np.einsum("pnc,pc->pn", Gb[basis_of], eta_b)
@@ -149,7 +151,10 @@ def row_basis(A: np.ndarray, b: np.ndarray) -> RowBasis:
             if nc == 1:
                 return RowBasis(np.zeros(1, dtype=np.intp), True)
             An = A / norms[:, None]
-            if np.linalg.eigvalsh(An @ An.T)[0] > CLEAR_RANK_GRAM:
+            # Two rows: the Gram matrix [[a, m], [m, d]] with a, d within ng·u of 1 has smallest
+            # eigenvalue ≥ min(a, d) − |m|, so 1 − |m| > 2·CLEAR_RANK_GRAM settles it without eigvalsh.
+            if (nc == 2 and 1.0 - abs(float(An[0] @ An[1])) > 2.0 * CLEAR_RANK_GRAM) \
+                    or np.linalg.eigvalsh(An @ An.T)[0] > CLEAR_RANK_GRAM:
                 return RowBasis(np.arange(nc, dtype=np.intp), True)
     return independent_rows(A, b)
 

@@ -568,3 +568,20 @@ def test_methods_are_immutable_values():
     assert m == ss.Girard(2) and hash(m) == hash(ss.Girard(2)) and m != ss.Combastel(2)
     with pytest.raises(AttributeError):
         m.order = 3
+
+
+def test_drop_zeros_returns_the_set_itself_when_nothing_is_zero():
+    """The fast answer of DropZeros (no zero row, every factor used) is the set itself, as the
+    general path gives; a zero row or an unused factor still goes through it."""
+    rng = np.random.default_rng(2)
+    G, A = rng.standard_normal((2, 4)), rng.standard_normal((2, 4))
+    Z = ss.ConstrainedZonotope(G, np.zeros(2), A=A, b=[0.1, 0.2])
+    assert ss.reduce(Z, ss.DropZeros()) is Z
+    G0 = G.copy()
+    G0[:, 3] = 0.0
+    A0 = A.copy()
+    A0[:, 3] = 0.0
+    unused = ss.ConstrainedZonotope(G0, np.zeros(2), A=A0, b=[0.1, 0.2])
+    assert ss.reduce(unused, ss.DropZeros()).ng == 3
+    zero_row = ss.ConstrainedZonotope(G, np.zeros(2), A=np.vstack([A[:1], np.zeros((1, 4))]), b=[0.1, 0.0])
+    assert ss.reduce(zero_row, ss.DropZeros()).nc == 1

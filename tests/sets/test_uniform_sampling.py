@@ -204,3 +204,74 @@ def test_cz_vertices_are_kept_on_the_set_read_only():
         assert cz_vertices(Z) is V and not V.flags.writeable
         assert V.tobytes() == _enumerated_vertices(Z, 300_000).tobytes()
         assert cz_vertices(Z, max_candidates=10) is not V
+
+
+def _reference_vertices(Z):
+    """The enumeration as written before issue 29's changes (np.clip, every basis re-indexed, the QR
+    row test), for the bit-for-bit comparison below."""
+    from setsmooth import tolerances as tol
+    from setsmooth.linalg import independent_rows
+    from setsmooth.sets.cz_vertices import _bases, _signs
+
+    h = np.asarray(Z.h, dtype=float)
+    G, A = np.asarray(Z.G, dtype=float), np.asarray(Z.A, dtype=float)
+    b, c = np.asarray(Z.b, dtype=float), np.asarray(Z.c, dtype=float)
+    live = np.flatnonzero(h > 0)
+    G, A, h = G[:, live], A[:, live], h[live]
+    basis = independent_rows(A, b)
+    if not basis.consistent:
+        return np.zeros((0, c.size))
+    A, b, G = A[basis.keep] * h, b[basis.keep], G * h
+    norms = np.abs(A).max(axis=1, initial=0.0)
+    A, b = A / norms[:, None], b / norms
+    ng, nc = h.size, A.shape[0]
+    if nc == 0:
+        return c + _signs(ng) @ G.T
+    slack = tol.VERTEX_FEASIBILITY_TOL * (1.0 + np.abs(b).max(initial=0.0))
+    beta, rest = _bases(ng, nc)
+    Ab = np.transpose(A[:, beta], (1, 0, 2))
+    is_basis = np.abs(np.linalg.det(Ab)) > tol.RANK_TOL
+    beta, rest, Ab = beta[is_basis], rest[is_basis], Ab[is_basis]
+    if beta.shape[0] == 0:
+        return np.zeros((0, c.size))
+    S = _signs(ng - nc)
+    rhs = b[None, :, None] - np.transpose(A[:, rest], (1, 0, 2)) @ S.T
+    eta_beta = np.linalg.solve(Ab, rhs)
+    ok = np.all(np.abs(eta_beta) <= 1.0 + slack, axis=1)
+    basis_of, pattern = np.nonzero(ok)
+    eta_b = np.clip(eta_beta[basis_of, :, pattern], -1.0, 1.0)
+    Gb = np.transpose(G[:, beta], (1, 0, 2))
+    Gr = np.transpose(G[:, rest], (1, 0, 2))
+    return (c + np.einsum("pnc,pc->pn", Gb[basis_of], eta_b)
+            + np.einsum("pnk,pk->pn", Gr[basis_of], S[pattern]))
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_cz_vertices_equal_their_first_version_bit_for_bit(seed):
+    """Boxes and parallelotopes cut by strips (singular bases among the choices, as in LSUO), and
+    random CZs with fixed factors and dependent rows: the same vertex array, bit for bit."""
+    from setsmooth.sets.cz_vertices import _enumerated_vertices
+
+    rng = np.random.default_rng(seed)
+    n = 3
+    C = np.array([[1.0, 0.0, 0.5], [0.0, 1.0, 0.5]])
+    box = np.diag(rng.uniform(0.1, 1.0, n))
+    par = rng.standard_normal((n, n))
+    cases = []
+    for G in (box, par):
+        for rows in (C[:1], C):
+            Gy = np.diag(rng.uniform(0.05, 0.5, rows.shape[0]))
+            cases.append((np.hstack([G, np.zeros((n, len(rows)))]), rng.standard_normal(n),
+                          np.hstack([rows @ G, -Gy]), 0.3 * rng.standard_normal(len(rows)),
+                          np.ones(n + len(rows))))
+    ng, nc = 9, int(rng.integers(1, 4))
+    A = rng.standard_normal((nc, ng))
+    if nc > 1 and seed % 3 == 0:
+        A[-1] = -2.0 * A[0]
+    h = rng.uniform(0.5, 1.5, ng)
+    h[rng.random(ng) < 0.2] = 0.0
+    cases.append((rng.standard_normal((n, ng)), rng.standard_normal(n), A,
+                  A @ (0.5 * rng.uniform(-1, 1, ng) * h), h))
+    for G, c, A, b, h in cases:
+        Z = ss.ConstrainedZonotope(G, c, A=A, b=b, h=h)
+        assert _enumerated_vertices(Z, 300_000).tobytes() == _reference_vertices(Z).tobytes()

@@ -17,6 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 
 from ... import tolerances as tol
 from ...floating import gamma
@@ -64,6 +65,12 @@ class DropZeros(ReductionMethod):
         return Z if keep.size == Z.ng else Zonotope._trusted(Z.G[:, keep], Z.c)
 
     def _on_constrained_zonotope(self, Z: ConstrainedZonotope):
+        if not (sp.issparse(Z.G) or sp.issparse(Z.A)):
+            # Nothing to drop (the usual case, twice per step of a reduced filter): the set itself,
+            # as below, without the working copy.
+            used = np.any(Z.G != 0.0, axis=0) | np.any(Z.A != 0.0, axis=0)
+            if used.all() and np.any(Z.A != 0.0, axis=1).all():
+                return Z
         d = CZData.of(Z)
         rows, consistent = _zero_rows_consistent(d.A, d.b)
         if not consistent and Z.is_empty():
