@@ -30,7 +30,7 @@ from scipy.spatial import ConvexHull
 from .. import tolerances as tol
 from ..linalg import RowBasis, independent_rows
 
-__all__ = ["MAX_VERTEX_CANDIDATES", "vertex_candidate_count", "cz_vertices", "HullGeometry",
+__all__ = ["MAX_VERTEX_CANDIDATES", "vertex_candidate_count", "cz_vertices", "vertices_of", "HullGeometry",
            "hull_geometry", "vertex_bounds"]
 
 #: Above this many candidates (C(ng, nc)·2^(ng−nc)) `cz_vertices` declines (returns None).
@@ -79,7 +79,7 @@ def cz_vertices(Z, max_candidates: int = MAX_VERTEX_CANDIDATES) -> np.ndarray | 
     """
     memo = Z.__dict__ if max_candidates == MAX_VERTEX_CANDIDATES else {}
     if "_vertices" not in memo:
-        V = _enumerated_vertices(Z, max_candidates)
+        V = vertices_of(Z.G, Z.c, Z.A, Z.b, Z.h, max_candidates)
         if V is not None:
             V.flags.writeable = False
         memo["_vertices"] = V
@@ -88,12 +88,19 @@ def cz_vertices(Z, max_candidates: int = MAX_VERTEX_CANDIDATES) -> np.ndarray | 
 
 def _enumerated_vertices(Z, max_candidates: int) -> np.ndarray | None:
     """`cz_vertices` without the memo."""
-    h = np.asarray(Z.h, dtype=float)
+    return vertices_of(Z.G, Z.c, Z.A, Z.b, Z.h, max_candidates)
+
+
+def vertices_of(G, c, A, b, h, max_candidates: int = MAX_VERTEX_CANDIDATES) -> np.ndarray | None:
+    """`cz_vertices` of Z(G, c, A, b, h) given by its arrays, for a caller that has them without the
+    set (trusted: the arrays a `ConstrainedZonotope` would hold; its copies of dense arrays keep their
+    layout, so these give the same bits)."""
+    h = np.asarray(h, dtype=float)
     if not np.all(np.isfinite(h)):
         return None
-    G = Z.G.toarray() if sp.issparse(Z.G) else np.asarray(Z.G, dtype=float)
-    A = Z.A.toarray() if sp.issparse(Z.A) else np.asarray(Z.A, dtype=float)
-    b, c = np.asarray(Z.b, dtype=float), np.asarray(Z.c, dtype=float)
+    G = G.toarray() if sp.issparse(G) else np.asarray(G, dtype=float)
+    A = A.toarray() if sp.issparse(A) else np.asarray(A, dtype=float)
+    b, c = np.asarray(b, dtype=float), np.asarray(c, dtype=float)
     live = np.flatnonzero(h > 0)                      # factors fixed at 0 move nothing
     G, A, h = G[:, live], A[:, live], h[live]
     basis = row_basis(A, b)

@@ -273,3 +273,24 @@ def test_the_strips_are_rounded_outward():
         exact_lo, exact_hi = Fraction(float(y[0])) - Fraction(1e-17), Fraction(float(y[0])) + Fraction(1e-17)
         assert lo <= exact_lo and exact_hi <= hi
         assert strip_set.support_many(np.array([[1.0], [-1.0]]), certified=True)[0] >= float(exact_hi)
+
+
+def test_the_parallelotope_choice_takes_numpys_nanargmin():
+    """`_nanargmin` (the minimal-volume choice without np.nanargmin's wrapper) answers as
+    np.nanargmin: NaN read as +inf, ties to the first, ValueError when every entry is NaN."""
+    from setsmooth.filters.lsu.parallelotope import _nanargmin
+
+    rng = np.random.default_rng(0)
+    for _ in range(500):
+        v = rng.standard_normal(int(rng.integers(1, 12)))
+        v[rng.random(v.size) < 0.3] = np.nan
+        v[rng.random(v.size) < 0.1] = np.inf
+        if rng.random() < 0.2:
+            v[:] = v[0]
+        try:
+            expected = int(np.nanargmin(v))
+        except ValueError:
+            with pytest.raises(ValueError):
+                _nanargmin(v)
+            continue
+        assert _nanargmin(v) == expected

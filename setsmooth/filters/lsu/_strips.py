@@ -17,7 +17,7 @@ import scipy.sparse as sp
 from ...sets import rounding
 from ...sets.box import Box
 from ...sets.constrained_zonotope import ConstrainedZonotope
-from ...sets.cz_vertices import cz_vertices
+from ...sets.cz_vertices import vertices_of
 
 __all__ = ["intersection_vertices", "box_form"]
 
@@ -43,9 +43,9 @@ def intersection_vertices(G: np.ndarray, c: np.ndarray, C: np.ndarray,
         return None
     Gy = np.asarray(strip.G)
     n, ng = G.shape
-    Q = ConstrainedZonotope._trusted(
-        np.hstack([G, np.zeros((n, Gy.shape[1]))]), c,
+    # Q's five arrays, enumerated without building Q (its stored copies keep these C layouts).
+    return vertices_of(
+        np.hstack([G, np.zeros((n, Gy.shape[1]))]), np.asarray(c, dtype=float),
         np.hstack([np.asarray(C @ G), -Gy]),           # the block [[A_z, 0], [0, A_y]] above has no rows
         strip.c + -np.asarray(C @ c).reshape(-1),       # fl(c_y − C c), as rounding.sum_with_error gives it
         np.concatenate([np.ones(ng), strip.h]))
-    return cz_vertices(Q)
