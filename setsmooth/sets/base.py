@@ -425,7 +425,7 @@ class ConvexSet(AlgebraHooks, ExtensionPoints, SetRelations, ABC):
     #: unpickling rather than shipped. Solver instances are never on a set at all (they live in the
     #: per-thread cache of `solvers.instances`), so no query can make a set unpicklable.
     #: ``_polygon_form`` is a 2-D polytope's `Polygon` (`polygon`), kept by the polygon algebra.
-    _DERIVED = ("_flat_cz", "_program", "_polygon_form")
+    _DERIVED = ("_flat_cz", "_program", "_polygon_form", "_vertices")
 
     def __getstate__(self) -> dict:
         return {name: value for name, value in self.__dict__.items() if name not in self._DERIVED}

@@ -66,6 +66,19 @@ def test_a_set_with_a_cached_hull_pickles_and_keeps_answering():
     assert T.support([1.0, 1.0]) == pytest.approx(S.support([1.0, 1.0]))
 
 
+def test_a_cz_pickles_without_its_stored_vertices():
+    """`cz_vertices` keeps a set's vertices on it (derived data, like its program): a pickle carries
+    the set, not them, and the copy enumerates the same vertices again."""
+    from setsmooth.sets.cz_vertices import cz_vertices
+
+    S = ss.ConstrainedZonotope(np.array([[1.0, 0.5, 0.0], [0.0, 1.0, 1.0]]), [0.0, 0.0],
+                               A=[[1.0, 1.0, 1.0]], b=[0.5])
+    V = cz_vertices(S)
+    T = pickle.loads(pickle.dumps(S))
+    assert "_vertices" in S.__dict__ and "_vertices" not in T.__dict__
+    assert np.array_equal(cz_vertices(T), V)
+
+
 def test_an_empty_set_caches_its_empty_hull():
     S = ss.ConstrainedZonotope(np.eye(2), [0.0, 0.0], A=[[1.0, 1.0]], b=[5.0])
     assert isinstance(S.interval_hull(), ss.EmptySet)
