@@ -146,8 +146,8 @@ def rts_trial(rng: np.random.Generator, q: float, r: float) -> dict:
     """The true states and the RTS squared errors of one run (the SMS errors come from Fig. 3's hulls)."""
     system, X0 = ex.linear_system(), ex.linear_x0()
     xs, ys = ss.simulate(system, X0, ex.T, rng)
-    return {"x": xs, "rts": smoothing_fig4.rts_squared_errors(system, xs, ys, q, r),
-            "rts_paper_pair": smoothing_fig4.rts_squared_errors(system, xs, ys, *ex.PAPER_BEST_QR)}
+    rts, rts_paper_pair = smoothing_fig4.rts_squared_errors(system, xs, ys, [(q, r), ex.PAPER_BEST_QR])
+    return {"x": xs, "rts": rts, "rts_paper_pair": rts_paper_pair}
 
 
 def _from_fig3_runs(out: Path, runs: int, seed: int, tuned: dict, executor, progress, workers):
