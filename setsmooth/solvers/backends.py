@@ -10,9 +10,10 @@ A backend solves min qᵀη over a presolved factor set {Âη = b̂, |η_B| ≤ 
 * 'interior': HiGHS's interior-point method without crossover (`highs.interior_point`).
 
 A *sequence* backend keeps state along a sequence of programs that share their constraint matrix
-and differ in b and the factor bounds (the OIT-CZ windows, `parametric.ParametricSupport`):
-``SEQUENCE_BACKENDS[name](A, Q, free)`` is made once per sequence and its ``solve(b, h, which)``
-returns multipliers and which objectives settled, for the caller's certificate to judge:
+and differ in b and the factor bounds (the OIT-CZ windows, `parametric.ParametricSupport`), min q_jᵀξ
+over {Aξ = b, |ξ_i| ≤ h_i} for fixed objectives q_j: ``SEQUENCE_BACKENDS[name](A, Q, free)`` is made
+once per sequence and its ``solve(j, b, h) -> Answer`` answers objective j of the current program,
+in the same vocabulary, for the caller's certificate to judge:
 
 * 'simplex along time': one HiGHS model per objective, re-solved by the dual simplex method from
   its last optimal basis (`highs.DirectionModels`).
@@ -173,7 +174,18 @@ BACKENDS: dict[str, Backend] = {
     "interior": highs_interior,
 }
 
+class SimplexAlongTime:
+    """'simplex along time': `highs.DirectionModels`, its answers in `Answer`'s vocabulary."""
+
+    def __init__(self, A: sp.csc_matrix, Q: np.ndarray, free: np.ndarray):
+        self.models = DirectionModels(A, Q, free)
+        self.m = A.shape[0]
+
+    def solve(self, j: int, b: np.ndarray, h: np.ndarray) -> Answer:
+        return classify(*self.models.solve(j, b, h), self.m)
+
+
 #: The sequence backends by name (see the module docstring).
 SEQUENCE_BACKENDS: dict[str, Callable] = {
-    "simplex along time": DirectionModels,
+    "simplex along time": SimplexAlongTime,
 }

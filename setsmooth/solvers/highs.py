@@ -215,29 +215,21 @@ class DirectionModels:
         self.fin = np.flatnonzero(~free).astype(np.int32)
         self.models: list | None = None
 
-    def solve(self, b: np.ndarray, h: np.ndarray, which: np.ndarray
-              ) -> tuple[np.ndarray, np.ndarray]:
-        """The objectives ``which`` (bool, shape (K,)) over {Aξ = b, |ξ| ≤ h}: (λ, settled) with λ of
-        shape (K, m) in Clarabel's convention (`ladder`), rows of the objectives that did not
-        settle (or were not asked) zero and ``settled`` False."""
+    def solve(self, j: int, b: np.ndarray, h: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
+        """Objective ``j`` over {Aξ = b, |ξ| ≤ h} from its model's last basis: (status name, ξ, λ̂)
+        as `ladder` gives them (λ̂ in Clarabel's convention), NaNs where the ladder did not settle."""
         m, p = self.A.shape
         if self.models is None:
             lower = np.where(self.free, -np.inf, -h)
             self.models = [lp_model(self.A, b, b, lower, -lower) for _ in self.Q]
             for model, q in zip(self.models, self.Q):
                 model.changeColsCost(p, np.arange(p, dtype=np.int32), q)
-        lam = np.zeros((len(self.Q), m))
-        settled = np.zeros(len(self.Q), dtype=bool)
-        rows = np.arange(m, dtype=np.int32)
-        for j in np.flatnonzero(which):
-            model = self.models[j]
-            model.changeRowsBounds(m, rows, b, b)
-            if self.fin.size:
-                model.changeColsBounds(self.fin.size, self.fin, -h[self.fin], h[self.fin])
-            _, _, multipliers = ladder(model, SIMPLEX_TOLERANCES)  # from the last program's basis
-            if multipliers is not None and np.all(np.isfinite(multipliers)):
-                lam[j], settled[j] = multipliers, True
-        return lam, settled
+        model = self.models[j]
+        model.changeRowsBounds(m, np.arange(m, dtype=np.int32), b, b)
+        if self.fin.size:
+            model.changeColsBounds(self.fin.size, self.fin, -h[self.fin], h[self.fin])
+        name, x, lam = ladder(model, SIMPLEX_TOLERANCES)
+        return name, (np.full(p, np.nan) if x is None else x), (np.full(m, np.nan) if lam is None else lam)
 
 
 def simplex_cold(pre, q: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:

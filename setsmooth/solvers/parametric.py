@@ -175,8 +175,10 @@ class WarmSession:
             if state is None:
                 state = self.states[attempt.backend] = SEQUENCE_BACKENDS[attempt.backend](
                     e.A, e._q, e.free)
-            found, settled = state.solve(b, h, ~ok)
-            lam[settled], ok = found[settled], ok | settled
+            for j in np.flatnonzero(~ok):
+                answer = state.solve(j, b, h)
+                if answer.status == "candidate" and np.all(np.isfinite(answer.z)):
+                    lam[j], ok[j] = answer.z, True
             if ok.all():
                 break
         charges = {"pad": pad, "slack": slack, "pad_free": pad_free, "slack_free": slack_free}
