@@ -12,7 +12,11 @@ same every step and whose right-hand side b is new, solved per step by
              direction, the dual simplex method from its previous basis after the change of b, the
              weak-duality certificate from its row duals; with the mean simplex pivots per LP.
 
-Usage: python benchmarks/bench_oit.py [--runs 3] [--steps 30] [--hull-methods]
+Part 3 (``--formulations``): why nothing else came near: the kept models' pivots against the same
+LPs with the n free columns eliminated exactly (QR of their block; denser), and how often a
+direction's optimal basis repeats along time (what a basis cache would need).
+
+Usage: python benchmarks/bench_oit.py [--runs 3] [--steps 30] [--hull-methods] [--formulations]
 """
 
 from __future__ import annotations
@@ -27,10 +31,12 @@ import sys  # noqa: E402
 import time  # noqa: E402
 
 import numpy as np  # noqa: E402
+import scipy.sparse as sp  # noqa: E402
 
 import setsmooth as ss  # noqa: E402
 from setsmooth import analysis  # noqa: E402
 from setsmooth.filters._window import Window  # noqa: E402
+from setsmooth.solvers import highs  # noqa: E402
 from setsmooth.solvers.parametric import ParametricSupport  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "paper_figures"))
@@ -77,10 +83,61 @@ def hull_methods(steps: int) -> None:
         kept = []
         for d in data:
             kept.append(engine.values(*d))
-            pivots.extend(model.getInfo().simplex_iteration_count for model in engine.models)
+            pivots.extend(model.getInfo().simplex_iteration_count for model in _highs_models(engine))
         t_kept = (time.process_time() - t) / len(data)
         print(f"n = {n}: fresh {1e3 * t_fresh:8.1f}   kept {1e3 * t_kept:8.1f} ({np.mean(pivots):.0f} pivots/LP; "
               f"max |kept - fresh| {np.max(np.abs(np.array(kept) - np.array(fresh))):.1e})")
+
+
+def _highs_models(session) -> list:
+    """The HiGHS models of a `WarmSession`'s sequence backends (`highs.DirectionModels`)."""
+    return [model for state in session.states.values() for model in (state.models.models or [])]
+
+
+def _windows(n: int, steps: int):
+    rng = np.random.default_rng(n)
+    drawn = analysis.random_observable_system(rng, n, n, n)
+    system = drawn.linear_system()
+    _, ys = ss.simulate(system, ss.Box(-10.0 * np.ones(n), 10.0 * np.ones(n)), steps + 3, rng)
+    window = Window(system, 3, np.eye(n))
+    return window, [window.data(ys, k, np.zeros(n), np.full(n, np.inf)) for k in range(3, steps + 4)]
+
+
+def formulations(steps: int) -> None:
+    print(f"\nOIT-CZ window LPs, {steps} steps: kept models against the free columns eliminated "
+          "(CPU ms per step in HiGHS, pivots per LP), and repeated optimal bases")
+    for n in DIMENSIONS:
+        window, data = _windows(n, steps)
+        A = window.A.toarray() if sp.issparse(window.A) else np.asarray(window.A)
+        free = window.free(n)
+        F, R = np.flatnonzero(free), np.flatnonzero(~free)
+        Q, Rf = np.linalg.qr(A[:, F], mode="complete")
+        Q1, Q2, Rt = Q[:, :F.size], Q[:, F.size:], Rf[:F.size]
+        A_red = Q2.T @ A[:, R]
+        objectives = -(np.vstack([np.eye(n), -np.eye(n)]) @ np.asarray(window.G))
+        reduced = objectives[:, R] - (A[:, R].T @ (Q1 @ np.linalg.solve(Rt.T, objectives[:, F].T))).T
+        forms = {"kept": (sp.csc_matrix(A), objectives, lambda b: b, free),
+                 "eliminated": (sp.csc_matrix(A_red), reduced, lambda b: Q2.T @ b, np.zeros(R.size, bool))}
+        line = [f"n = {n}:"]
+        for name, (M, costs, rhs, free_cols) in forms.items():
+            models = highs.DirectionModels(M, costs, free_cols)
+            seconds, pivots, seen, repeats = 0.0, 0, [set() for _ in costs], 0
+            for _, b, h in data:
+                hh = h if name == "kept" else h[R]
+                for j in range(len(costs)):
+                    t = time.process_time()
+                    models.solve(j, rhs(b), hh)
+                    seconds += time.process_time() - t
+                    model = models.models[j]
+                    pivots += model.getInfo().simplex_iteration_count
+                    basis = model.getBasis()
+                    key = (tuple(int(x) for x in basis.col_status), tuple(int(x) for x in basis.row_status))
+                    repeats += key in seen[j]
+                    seen[j].add(key)
+            lps = len(data) * len(costs)
+            line.append(f"{name} {M.shape[0]}x{M.shape[1]} nnz {M.nnz}: {1e3 * seconds / len(data):.1f} ms, "
+                        f"{pivots / lps:.1f} pivots/LP, {repeats} of {lps} bases seen before;")
+        print("  ".join(line))
 
 
 def main() -> None:
@@ -88,10 +145,15 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--steps", type=int, default=30, help="T (k = 0..T)")
     parser.add_argument("--hull-methods", action="store_true")
+    parser.add_argument("--formulations", action="store_true")
+    parser.add_argument("--no-table", action="store_true", help="skip Part 1")
     args = parser.parse_args()
-    table(args.runs, args.steps)
+    if not args.no_table:
+        table(args.runs, args.steps)
     if args.hull_methods:
         hull_methods(args.steps)
+    if args.formulations:
+        formulations(args.steps)
 
 
 if __name__ == "__main__":
