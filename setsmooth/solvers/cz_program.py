@@ -137,10 +137,12 @@ class CZProgram:
                 raise
             return solved, None
         finite = np.isfinite(values) & np.isfinite(bounds)
+        partner = _partners(D)  # for both the tolerance and the thin-set guarantee below
         # The rounding charges (`setsmooth.sets.rounding`) are part of every bound; the bracket
         # checks the solver on the stored program (``stored``: its bounds), so it leaves them out.
         with np.errstate(invalid="ignore"):
-            loose = finite & ~(np.abs(stored - values) <= self._gap_tolerance(D, values, stored, own))
+            loose = finite & ~(np.abs(stored - values)
+                               <= self._gap_tolerance(D, values, stored, own, partner))
         rows = np.flatnonzero(loose)
         if rows.size:
             values, points, xis, lams, bounds = (a.copy() for a in (values, points, xis, lams,
@@ -170,17 +172,20 @@ class CZProgram:
                 xis[take], lams[take] = x2[ok][better], l2[ok][better]
                 bounds[r] = np.minimum(bounds[r], b2)
         values = np.where(finite, np.minimum(values, bounds), values)
-        thin = finite & self._below_guarantee(D, values)
+        thin = finite & self._below_guarantee(D, values, partner)
         values = np.where(thin, bounds, values)
         return (values, points, xis, lams), bounds
 
     @staticmethod
-    def _below_guarantee(D: np.ndarray, values: np.ndarray) -> np.ndarray:
+    def _below_guarantee(D: np.ndarray, values: np.ndarray,
+                         partner: np.ndarray | None = None) -> np.ndarray:
         """The rows d of ``D`` along which the set is thinner than the plain values' guarantee:
         −d is a row too and the width h(d) + h(−d) is below ``GUARANTEED_WIDTH_RATIO``·(|h(d)| +
         |h(−d)|). There the floor of the bracket, not 1e-7 of the width, bounds a plain value's
-        error, so the certified bound is returned in its place (docs/numerical_core.md)."""
-        partner = _partners(D)
+        error, so the certified bound is returned in its place (docs/numerical_core.md).
+        ``partner``: `_partners` of D, when the caller has it."""
+        if partner is None:
+            partner = _partners(D)
         paired = partner >= 0
         other = values[np.where(paired, partner, 0)]
         with np.errstate(invalid="ignore"):
@@ -189,16 +194,19 @@ class CZProgram:
 
     @staticmethod
     def _gap_tolerance(D: np.ndarray, lower: np.ndarray, upper: np.ndarray,
-                       rounding: np.ndarray | None = None) -> np.ndarray:
+                       rounding: np.ndarray | None = None,
+                       partner: np.ndarray | None = None) -> np.ndarray:
         """``SUPPORT_GAP_TOL`` times the width of the set along each row d of ``D`` (lower bound
         L(d) + L(−d) when −d is a row too; else the magnitude |L| + |U|), plus the rounding floor:
         four times the certificate's own rounding allowance (``rounding``, from `certified_bound`)
         and ``SUPPORT_GAP_FLOOR``·(|L| + |U|) for the rounding of L itself. A floor tied to the
         certificate's actual rounding, not to the magnitude alone, keeps a state far from the
-        origin from hiding a loose answer (docs/numerical_core.md)."""
+        origin from hiding a loose answer (docs/numerical_core.md). ``partner``: `_partners` of D,
+        when the caller has it."""
         magnitude = np.abs(lower) + np.abs(upper)
         scale = magnitude.copy()
-        partner = _partners(D)
+        if partner is None:
+            partner = _partners(D)
         paired = partner >= 0
         scale[paired] = np.maximum(lower[paired] + lower[partner[paired]], 0.0)
         floor = tol.SUPPORT_GAP_FLOOR * magnitude

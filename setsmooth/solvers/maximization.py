@@ -204,7 +204,7 @@ class Search:
                leak: float) -> Maximized | None:
         """Accept, keep or pass on one answer (module docstring)."""
         ng, nc = self.factors.ng, self.factors.nc
-        finite = np.all(np.isfinite(answer.z)) and np.all(np.isfinite(answer.eta))
+        finite = np.isfinite(answer.z).all() and np.isfinite(answer.eta).all()
         if not finite or answer.status == "unbounded":
             return None
         result = Maximized("optimal", pre.factors(answer.eta[None], ng)[0],

@@ -29,8 +29,8 @@ program for the objective ĝ/σ maps back to λ = σ R ẑ for the original one 
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg
 import scipy.sparse as sp
+from scipy.linalg.lapack import dpotrf
 
 from .. import tolerances as tol
 from ..linalg import independent_rows
@@ -206,11 +206,12 @@ def _well_conditioned(M: sp.csc_matrix, rows: np.ndarray) -> bool:
     if not bound > 0 or not np.isfinite(bound):
         return False
     G[np.diag_indices(m)] -= (INDEPENDENT_RCOND ** 2 + 4 * m * np.finfo(float).eps) * bound
-    try:
-        scipy.linalg.cholesky(G, lower=True, overwrite_a=True, check_finite=False)
-    except np.linalg.LinAlgError:
-        return False
-    return True
+    # LAPACK's potrf as `scipy.linalg.cholesky` calls it (the same routine and arguments), without
+    # its wrapper's checks, which cost more than the factorization of a small program's rows.
+    _, info = dpotrf(G, lower=True, overwrite_a=True)
+    if info < 0:
+        raise ValueError(f"LAPACK reported an illegal value in argument {-info} of POTRF")
+    return info == 0
 
 
 def _inverse(norms: np.ndarray) -> np.ndarray:

@@ -119,7 +119,7 @@ class Presolved:
         dual = lam @ self.b + np.abs(reduced[:, self.bounded] if free else reduced).sum(axis=1)
         scale = self.data_scale + np.abs(Q).sum(axis=1)
         residual = np.abs((self.products[0] @ eta.T).T - self.b).max(axis=1, initial=0.0)
-        overshoot = np.max(np.abs(eta[:, self.bounded] if free else eta) - 1.0, axis=1, initial=0.0)
+        overshoot = (np.abs(eta[:, self.bounded] if free else eta) - 1.0).max(axis=1, initial=0.0)
         worst = np.maximum(np.maximum(np.abs(dual - primal), residual), overshoot) / scale
         failed = (worst > tol.SOLVER_CHECK_TOL) | (leak > tol.REDUCED_COST_TOL)
         return np.where(failed, np.inf, worst)

@@ -144,3 +144,36 @@ def test_a_trajectory_set_presolves_to_the_same_program_at_every_noise_scale():
     for pre in programs[1:]:
         assert abs(pre.A - first.A).max() <= 1e-14
         np.testing.assert_allclose(pre.b, first.b, atol=1e-13)
+
+
+def test_the_rows_are_called_independent_exactly_when_scipys_cholesky_of_the_shifted_gram_exists():
+    # `_well_conditioned` calls LAPACK's potrf directly; scipy.linalg.cholesky (the former call)
+    # must reach the same verdict on well-conditioned, nearly dependent and dependent rows.
+    import scipy.linalg
+
+    from setsmooth.solvers.presolve import INDEPENDENT_RCOND, _well_conditioned
+    from setsmooth.solvers.small_products import gram
+
+    rng = np.random.default_rng(29)
+    verdicts = set()
+    for trial in range(60):
+        m, p = int(rng.integers(2, 6)), int(rng.integers(6, 12))
+        A = rng.standard_normal((m, p))
+        if trial % 3 == 1:
+            A[-1] = A[0] + 10.0 ** -rng.uniform(2, 9) * rng.standard_normal(p)  # nearly dependent
+        elif trial % 3 == 2:
+            A[-1] = 2.0 * A[0]  # dependent
+        A /= np.abs(A).max(axis=1, keepdims=True)
+        M = sp.csc_matrix(A)
+        rows = np.arange(m)
+        G = gram(M)
+        G[np.diag_indices(m)] -= (INDEPENDENT_RCOND ** 2 + 4 * m * np.finfo(float).eps) \
+            * float(np.abs(G).sum(axis=1).max())
+        try:
+            scipy.linalg.cholesky(G, lower=True, check_finite=False)
+            expected = True
+        except np.linalg.LinAlgError:
+            expected = False
+        assert _well_conditioned(M, rows) is expected
+        verdicts.add(expected)
+    assert verdicts == {True, False}

@@ -83,7 +83,8 @@ def test_without_the_check_the_loose_solver_is_visibly_off(monkeypatch):
     monkeypatch.setattr(clarabel_lp, "settings", loose_settings)
     interior_first(monkeypatch)
     monkeypatch.setattr(CZProgram, "_gap_tolerance",
-                        staticmethod(lambda D, lo, up, rounding=None: np.full(D.shape[0], np.inf)))
+                        staticmethod(lambda D, lo, up, rounding=None, partner=None:
+                                     np.full(D.shape[0], np.inf)))
     S = smoothed_sets("scale1")[3]
     lo_x, hi_x = exact_hull(S)
     plain = S.interval_hull(certified=False)
