@@ -12,8 +12,10 @@ in the form Z(G, c, A, b, h) again. Two ways to find E:
   1-norm, then one sweep E_j ← E_j ∩ (b_i − Σ_{l≠j} A_il E_l)/A_ij over the rows i. Each row updates
   all its factors at once from the boxes left by the previous rows (CORA also updates factor by
   factor within a row; after the Gauss–Jordan step a row's pivot factor is the one it tightens most,
-  and the row-at-once update is one vectorized operation). The propagated range R_j (before
-  the intersection with E_j) is what constraint elimination (§4.2) uses.
+  and the row-at-once update is one vectorized operation). Few rows change the box, so rows are
+  evaluated a stretch at a time against it and kept up to the first that changes it: the same
+  floats as row by row. The propagated range R_j (before the intersection with E_j) is what
+  constraint elimination (§4.2) uses.
 * ``Rescale("exact")``: the tightest box, by 2·ng certified LPs on the CZ fast path.
 
 Soundness in floating point: the preconditioned rows are P·A and P·b evaluated in floating point, so
@@ -152,7 +154,6 @@ def propagate(A: np.ndarray, b: np.ndarray, h: np.ndarray) -> FactorBounds:
     dA = g * (absP @ np.abs(A))
     db = g * (absP @ np.abs(b))
     # dA = 0 only where every term of the product was zero: that coefficient is exactly 0.
-    empty_here = False
     exact = dA == 0.0
     Alo = np.where(exact, Ap, round_down(Ap - dA))
     Ahi = np.where(exact, Ap, round_up(Ap + dA))
@@ -161,27 +162,96 @@ def propagate(A: np.ndarray, b: np.ndarray, h: np.ndarray) -> FactorBounds:
     # A divisor interval containing 0 bounds nothing (`_row`); decided for all rows at once.
     ok = (Alo > 0.0) | (Ahi < 0.0)
     bounds_all = (ok | ~seen).all(axis=1)
+    sweep = _Sweep(Alo, Ahi, bp, db, ok, bounds_all, lo, hi, Rlo, Rhi)
+    rows = Ap.shape[0]
+    # Consecutive rows that see the same factors, [start, end) (a batch never crosses one's end).
+    ends = np.append(np.flatnonzero(np.any(seen[1:] != seen[:-1], axis=1)) + 1, rows)
+    # Rows per batch: after a batch that stopped early, as many as it took (rows evaluated past the
+    # stop are evaluated again); after one that did not, twice as many.
+    limit = rows
+    i = 0
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        for i in range(Ap.shape[0]):
+        while i < rows:
             # Whole rows instead of an index of every column: the same elements in the same order.
             cols = slice(None) if every[i] else seen[i].nonzero()[0]
-            xlo, xhi = lo[cols], hi[cols]
-            qlo, qhi = _row(Alo[i, cols], Ahi[i, cols], xlo, xhi, bp[i], db[i],
-                            None if bounds_all[i] else ok[i, cols])
-            qlo = np.maximum(qlo, Rlo[cols])
-            qhi = np.minimum(qhi, Rhi[cols])
-            Rlo[cols], Rhi[cols] = qlo, qhi
-            nlo, nhi = np.maximum(xlo, qlo), np.minimum(xhi, qhi)
-            crossed = nlo > nhi
-            if crossed.any():
-                # Rigorous for the data as stored, but the data carry the rounding of the set algebra
-                # that built them: a set that is a single point (extreme noise realizations) comes
-                # out a hair empty. The caller decides (by the LP's emptiness policy); meanwhile the
-                # crossed bounds are swapped, which keeps every estimate between them.
-                empty_here = True
-                nlo[crossed], nhi[crossed] = nhi[crossed], nlo[crossed]
-            lo[cols], hi[cols] = nlo, nhi
-    return FactorBounds(lo, hi, Rlo, Rhi, empty_here)
+            end = min(int(ends[np.searchsorted(ends, i, side="right")]), i + limit)
+            done = sweep.batch(i, end, cols) if end - i > 1 else 0
+            if done == 0:
+                sweep.one(i, cols)
+                done = 1
+            limit = 2 * limit if i + done == end else done
+            i += done
+    return FactorBounds(lo, hi, Rlo, Rhi, sweep.crossed)
+
+
+class _Sweep:
+    """The sweep of `propagate` over the preconditioned rows, in order, on the arrays it updates in
+    place (the box [lo, hi] and the ranges [Rlo, Rhi]).
+
+    A row's ranges depend on the box left by the rows before it, and the box changes at few rows (a
+    row seldom tightens a factor's bound): `batch` evaluates the rows of a stretch at once against the
+    current box and keeps them up to the first row that changes it; `one` is a row by itself. Either
+    gives the same floats as the rows one by one: the row formulas are the same element by element,
+    and a batch's running maxima and minima of the ranges, and its comparisons with the box, see no
+    zero or NaN range (a batch stops before one, and ranges holding one go row by row), so no ±0 tie
+    can come out differently and a row that keeps the box keeps it bit for bit.
+    """
+
+    def __init__(self, Alo, Ahi, bp, db, ok, bounds_all, lo, hi, Rlo, Rhi):
+        self.Alo, self.Ahi, self.bp, self.db, self.ok, self.bounds_all = Alo, Ahi, bp, db, ok, bounds_all
+        self.lo, self.hi, self.Rlo, self.Rhi = lo, hi, Rlo, Rhi
+        self.crossed = False
+
+    def one(self, i: int, cols) -> None:
+        """Row i by itself, on its factors ``cols``."""
+        lo, hi, Rlo, Rhi = self.lo, self.hi, self.Rlo, self.Rhi
+        xlo, xhi = lo[cols], hi[cols]
+        qlo, qhi = _row(self.Alo[i, cols], self.Ahi[i, cols], xlo, xhi, self.bp[i], self.db[i],
+                        None if self.bounds_all[i] else self.ok[i, cols])
+        qlo = np.maximum(qlo, Rlo[cols])
+        qhi = np.minimum(qhi, Rhi[cols])
+        Rlo[cols], Rhi[cols] = qlo, qhi
+        self._settle(cols, np.maximum(xlo, qlo), np.minimum(xhi, qhi))
+
+    def _settle(self, cols, nlo, nhi) -> None:
+        crossed = nlo > nhi
+        if crossed.any():
+            # Rigorous for the data as stored, but the data carry the rounding of the set algebra
+            # that built them: a set that is a single point (extreme noise realizations) comes
+            # out a hair empty. The caller decides (by the LP's emptiness policy); meanwhile the
+            # crossed bounds are swapped, which keeps every estimate between them.
+            self.crossed = True
+            nlo[crossed], nhi[crossed] = nhi[crossed], nlo[crossed]
+        self.lo[cols], self.hi[cols] = nlo, nhi
+
+    def batch(self, i: int, end: int, cols) -> int:
+        """Rows i..end−1, all seeing the factors ``cols``, at once against the current box.
+
+        Returns how many rows were taken: those up to and including the first that changes the box,
+        or up to the first that `_rows` leaves to `one` (unbounded sums, a zero or NaN range).
+        """
+        xlo, xhi = self.lo[cols], self.hi[cols]
+        Rlo, Rhi = self.Rlo[cols], self.Rhi[cols]
+        if not (np.isfinite(xlo).all() and np.isfinite(xhi).all()):
+            return 0   # an unbounded factor: its rows' sums are infinite, `one` counts them
+        if not ((np.abs(Rlo) > 0.0).all() and (np.abs(Rhi) > 0.0).all()):
+            return 0   # a zero (or NaN) range from a row done by itself: row by row from here
+        rows = slice(i, end)
+        qlo, qhi, fine = _rows(self.Alo[rows, cols], self.Ahi[rows, cols], xlo, xhi, self.bp[rows],
+                               self.db[rows], self.ok[rows, cols])
+        taken = int(fine.argmin()) if not fine.all() else end - i
+        if taken == 0:
+            return 0
+        # R after each row: the running max/min over the rows (no zero among them: no ±0 tie).
+        Rlo = np.maximum.accumulate(np.vstack([Rlo, qlo[:taken]]), axis=0)[1:]
+        Rhi = np.minimum.accumulate(np.vstack([Rhi, qhi[:taken]]), axis=0)[1:]
+        changes = np.flatnonzero((Rlo > xlo).any(axis=1) | (Rhi < xhi).any(axis=1))
+        if changes.size:
+            taken = int(changes[0]) + 1
+        self.Rlo[cols], self.Rhi[cols] = Rlo[taken - 1], Rhi[taken - 1]
+        if changes.size:
+            self._settle(cols, np.maximum(xlo, Rlo[taken - 1]), np.minimum(xhi, Rhi[taken - 1]))
+        return taken
 
 
 def _row(alo, ahi, xlo, xhi, beta, dbeta, ok=None):
@@ -211,6 +281,35 @@ def _row(alo, ahi, xlo, xhi, beta, dbeta, ok=None):
     if ok is None:
         return qlo, qhi
     return np.where(ok, qlo, -np.inf), np.where(ok, qhi, np.inf)
+
+
+
+def _rows(alo, ahi, xlo, xhi, beta, dbeta, ok):
+    """`_row` for several rows at once (one per row of ``alo``, ``ahi``, ``ok``, entry of ``beta``,
+    ``dbeta``) against the same boxes [xlo, xhi]; every row's floats are those of `_row` on it.
+
+    Returns ``(qlo, qhi, fine)``; ``fine`` is False from a row on whose sums are not finite (`_row`
+    handles it) or whose range holds a zero or NaN (whose sign `batch`'s running maxima might treat
+    differently): those rows are to be redone one by one.
+    """
+    # C order (an index of columns gives F order): a sum along the rows of a C-ordered array is each
+    # row's pairwise sum, that of its 1-D sum; along an F-ordered one it adds term by term.
+    alo, ahi = np.ascontiguousarray(alo), np.ascontiguousarray(ahi)
+    p1, p2, p3, p4 = alo * xlo, alo * xhi, ahi * xlo, ahi * xhi
+    tlo = np.fmin(np.fmin(p1, p2), np.fmin(p3, p4))
+    thi = np.fmax(np.fmax(p1, p2), np.fmax(p3, p4))
+    slo, shi = tlo.sum(axis=1), thi.sum(axis=1)
+    olo, ohi = slo[:, None] - tlo, shi[:, None] - thi
+    mag = np.abs(tlo).sum(axis=1) + np.abs(thi).sum(axis=1)
+    err = gamma(tlo.shape[1] + 4) * (mag + np.abs(beta) + dbeta)
+    nlo = (beta - dbeta)[:, None] - ohi - err[:, None]
+    nhi = (beta + dbeta)[:, None] - olo + err[:, None]
+    q1, q2, q3, q4 = nlo / alo, nlo / ahi, nhi / alo, nhi / ahi
+    qlo = np.where(ok, round_down(np.fmin(np.fmin(q1, q2), np.fmin(q3, q4))), -np.inf)
+    qhi = np.where(ok, round_up(np.fmax(np.fmax(q1, q2), np.fmax(q3, q4))), np.inf)
+    fine = (np.isfinite(slo) & np.isfinite(shi) & (np.abs(qlo) > 0.0).all(axis=1)
+            & (np.abs(qhi) > 0.0).all(axis=1))
+    return qlo, qhi, np.logical_and.accumulate(fine)
 
 
 
