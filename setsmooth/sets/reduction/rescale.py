@@ -67,7 +67,8 @@ def gauss_jordan(A: np.ndarray) -> np.ndarray:
     # |entries| of the rows and columns still available; used ones are marked −1.
     free = np.abs(A)
     threshold = tol.RANK_TOL * free.max(initial=0.0)
-    rows, cols = [], []
+    rows = []
+    used_rows, used_cols = np.zeros(nc, dtype=bool), np.zeros(ng, dtype=bool)
     pivots = min(nc, ng)
     for step in range(pivots):
         i, j = divmod(int(free.argmax()), ng)
@@ -78,13 +79,11 @@ def gauss_jordan(A: np.ndarray) -> np.ndarray:
         factor[i] = 0.0
         M -= factor[:, None] * M[i]   # np.outer's products, without its argument handling
         rows.append(i)
-        cols.append(j)
         if step + 1 < pivots:         # no search follows the last pivot
+            used_rows[i] = used_cols[j] = True
             free = np.abs(M[:, :ng])
-            for r in rows:            # (a row or column at a time: cheaper than a list index)
-                free[r] = -1.0
-            for c in cols:
-                free[:, c] = -1.0
+            free[used_rows] = -1.0    # (two masks: cheaper than a row or column at a time)
+            free[:, used_cols] = -1.0
     order = rows
     P = M[order, ng:]
     norms = np.abs(M[order, :ng]).sum(axis=1)
