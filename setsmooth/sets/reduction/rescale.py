@@ -31,7 +31,6 @@ become bounded factors of the same set.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -256,60 +255,49 @@ class _Sweep:
 def _row(alo, ahi, xlo, xhi, beta, dbeta, ok=None):
     """The range of each ξ_j implied by one row Σ_l [alo_l, ahi_l] ξ_l ∈ [β − dβ, β + dβ] and the
     other factors' boxes ξ_l ∈ [xlo_l, xhi_l], rounded outward; unbounded where ``ok`` is False (the
-    divisor interval [alo_j, ahi_j] contains 0; None: every one excludes it).
+    divisor interval [alo_j, ahi_j] contains 0; None: every one excludes it). `_rows` on one row.
     """
-    p1, p2, p3, p4 = alo * xlo, alo * xhi, ahi * xlo, ahi * xhi
-    # fmin/fmax skip the NaN of 0·∞ (a zero coefficient endpoint against an unbounded box): the
-    # other candidates then carry the bound, as the interval product requires.
-    tlo = np.fmin(np.fmin(p1, p2), np.fmin(p3, p4))
-    thi = np.fmax(np.fmax(p1, p2), np.fmax(p3, p4))
-    slo, shi = tlo.sum(), thi.sum()
-    if math.isfinite(slo) and math.isfinite(shi):
-        olo, ohi = slo - tlo, shi - thi
-        mag = np.abs(tlo).sum() + np.abs(thi).sum()
-    else:
-        olo, ohi, mag = _others_with_infinities(tlo, thi)
-    # One bound for every rounding so far (products, sums, the subtraction of the own term, the two
-    # operations below): γ_{k+4} times the magnitudes involved.
-    err = gamma(tlo.size + 4) * (mag + abs(beta) + dbeta)
-    nlo = beta - dbeta - ohi - err
-    nhi = beta + dbeta - olo + err
-    q1, q2, q3, q4 = nlo / alo, nlo / ahi, nhi / alo, nhi / ahi
-    qlo = round_down(np.fmin(np.fmin(q1, q2), np.fmin(q3, q4)))
-    qhi = round_up(np.fmax(np.fmax(q1, q2), np.fmax(q3, q4)))
-    if ok is None:
-        return qlo, qhi
-    return np.where(ok, qlo, -np.inf), np.where(ok, qhi, np.inf)
-
+    qlo, qhi, _ = _rows(alo[None], ahi[None], xlo, xhi, np.array([beta]), np.array([dbeta]),
+                        True if ok is None else ok[None])
+    return qlo[0], qhi[0]
 
 
 def _rows(alo, ahi, xlo, xhi, beta, dbeta, ok):
-    """`_row` for several rows at once (one per row of ``alo``, ``ahi``, ``ok``, entry of ``beta``,
-    ``dbeta``) against the same boxes [xlo, xhi]; every row's floats are those of `_row` on it.
+    """The ranges of `_row` for several rows at once (one per row of ``alo``, ``ahi``, ``ok``, entry
+    of ``beta``, ``dbeta``) against the same boxes [xlo, xhi]; every row's floats are those the row
+    gives by itself.
 
-    Returns ``(qlo, qhi, fine)``; ``fine`` is False from a row on whose sums are not finite (`_row`
-    handles it) or whose range holds a zero or NaN (whose sign `batch`'s running maxima might treat
-    differently): those rows are to be redone one by one.
+    Returns ``(qlo, qhi, fine)``; ``fine`` is False from a row on whose sums are not finite or whose
+    range holds a zero or NaN (whose sign `batch`'s running maxima might treat differently): those
+    rows are to be redone one by one. A single row's infinite sums are counted here
+    (`_others_with_infinities`); several rows' are left to that.
     """
     # C order (an index of columns gives F order): a sum along the rows of a C-ordered array is each
     # row's pairwise sum, that of its 1-D sum; along an F-ordered one it adds term by term.
     alo, ahi = np.ascontiguousarray(alo), np.ascontiguousarray(ahi)
     p1, p2, p3, p4 = alo * xlo, alo * xhi, ahi * xlo, ahi * xhi
+    # fmin/fmax skip the NaN of 0·∞ (a zero coefficient endpoint against an unbounded box): the
+    # other candidates then carry the bound, as the interval product requires.
     tlo = np.fmin(np.fmin(p1, p2), np.fmin(p3, p4))
     thi = np.fmax(np.fmax(p1, p2), np.fmax(p3, p4))
     slo, shi = tlo.sum(axis=1), thi.sum(axis=1)
-    olo, ohi = slo[:, None] - tlo, shi[:, None] - thi
-    mag = np.abs(tlo).sum(axis=1) + np.abs(thi).sum(axis=1)
+    finite = np.isfinite(slo) & np.isfinite(shi)
+    if finite.all() or tlo.shape[0] > 1:
+        olo, ohi = slo[:, None] - tlo, shi[:, None] - thi
+        mag = np.abs(tlo).sum(axis=1) + np.abs(thi).sum(axis=1)
+    else:  # one row with infinite terms: they are counted, not subtracted
+        olo, ohi, m = _others_with_infinities(tlo[0], thi[0])
+        olo, ohi, mag = olo[None], ohi[None], np.array([m])
+    # One bound for every rounding so far (products, sums, the subtraction of the own term, the two
+    # operations below): γ_{k+4} times the magnitudes involved.
     err = gamma(tlo.shape[1] + 4) * (mag + np.abs(beta) + dbeta)
     nlo = (beta - dbeta)[:, None] - ohi - err[:, None]
     nhi = (beta + dbeta)[:, None] - olo + err[:, None]
     q1, q2, q3, q4 = nlo / alo, nlo / ahi, nhi / alo, nhi / ahi
     qlo = np.where(ok, round_down(np.fmin(np.fmin(q1, q2), np.fmin(q3, q4))), -np.inf)
     qhi = np.where(ok, round_up(np.fmax(np.fmax(q1, q2), np.fmax(q3, q4))), np.inf)
-    fine = (np.isfinite(slo) & np.isfinite(shi) & (np.abs(qlo) > 0.0).all(axis=1)
-            & (np.abs(qhi) > 0.0).all(axis=1))
+    fine = finite & (np.abs(qlo) > 0.0).all(axis=1) & (np.abs(qhi) > 0.0).all(axis=1)
     return qlo, qhi, np.logical_and.accumulate(fine)
-
 
 
 def _others_with_infinities(tlo: np.ndarray, thi: np.ndarray):
