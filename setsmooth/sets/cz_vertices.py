@@ -86,11 +86,6 @@ def cz_vertices(Z, max_candidates: int = MAX_VERTEX_CANDIDATES) -> np.ndarray | 
     return memo["_vertices"]
 
 
-def _enumerated_vertices(Z, max_candidates: int) -> np.ndarray | None:
-    """`cz_vertices` without the memo."""
-    return vertices_of(Z.G, Z.c, Z.A, Z.b, Z.h, max_candidates)
-
-
 def vertices_of(G, c, A, b, h, max_candidates: int = MAX_VERTEX_CANDIDATES) -> np.ndarray | None:
     """`cz_vertices` of Z(G, c, A, b, h) given by its arrays, for a caller that has them without the
     set (trusted: the arrays a `ConstrainedZonotope` would hold; its copies of dense arrays keep their

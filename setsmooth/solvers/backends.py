@@ -174,6 +174,7 @@ BACKENDS: dict[str, Backend] = {
     "interior": highs_interior,
 }
 
+
 class SimplexAlongTime:
     """'simplex along time': `highs.DirectionModels`, its answers in `Answer`'s vocabulary."""
 

@@ -213,6 +213,7 @@ class DirectionModels:
     def __init__(self, A: sp.csc_matrix, Q: np.ndarray, free: np.ndarray):
         self.A, self.Q, self.free = A, Q, free
         self.fin = np.flatnonzero(~free).astype(np.int32)
+        self.rows = np.arange(A.shape[0], dtype=np.int32)
         self.models: list | None = None
 
     def solve(self, j: int, b: np.ndarray, h: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
@@ -225,7 +226,7 @@ class DirectionModels:
             for model, q in zip(self.models, self.Q):
                 model.changeColsCost(p, np.arange(p, dtype=np.int32), q)
         model = self.models[j]
-        model.changeRowsBounds(m, np.arange(m, dtype=np.int32), b, b)
+        model.changeRowsBounds(m, self.rows, b, b)
         if self.fin.size:
             model.changeColsBounds(self.fin.size, self.fin, -h[self.fin], h[self.fin])
         name, x, lam = ladder(model, SIMPLEX_TOLERANCES)

@@ -218,4 +218,3 @@ def _free_lam_min(A: sp.csc_matrix, free_cols: np.ndarray) -> float | None:
     gram_err = float(gamma(A.shape[0] + 2) * np.linalg.norm((absAF.T @ absAF).toarray()))
     eig_err = 8.0 * free_cols.size * U * np.linalg.norm(gram)
     return float(np.linalg.eigvalsh(gram)[0]) - gram_err - eig_err
-

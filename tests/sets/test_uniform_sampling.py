@@ -194,7 +194,7 @@ def test_the_row_basis_of_clearly_independent_rows_is_independent_rows_answer(mo
 def test_cz_vertices_are_kept_on_the_set_read_only():
     """A second enumeration of the same set returns the first one's array (read-only), equal bit for
     bit to a fresh enumeration; a non-default ``max_candidates`` enumerates anew."""
-    from setsmooth.sets.cz_vertices import _enumerated_vertices, cz_vertices
+    from setsmooth.sets.cz_vertices import cz_vertices, vertices_of
 
     rng = np.random.default_rng(11)
     for nc in (0, 1, 2):
@@ -202,7 +202,7 @@ def test_cz_vertices_are_kept_on_the_set_read_only():
                                    A=rng.standard_normal((nc, 6)), b=0.1 * rng.standard_normal(nc))
         V = cz_vertices(Z)
         assert cz_vertices(Z) is V and not V.flags.writeable
-        assert V.tobytes() == _enumerated_vertices(Z, 300_000).tobytes()
+        assert V.tobytes() == vertices_of(Z.G, Z.c, Z.A, Z.b, Z.h, 300_000).tobytes()
         assert cz_vertices(Z, max_candidates=10) is not V
 
 
@@ -250,7 +250,7 @@ def _reference_vertices(Z):
 def test_cz_vertices_equal_their_first_version_bit_for_bit(seed):
     """Boxes and parallelotopes cut by strips (singular bases among the choices, as in LSUO), and
     random CZs with fixed factors and dependent rows: the same vertex array, bit for bit."""
-    from setsmooth.sets.cz_vertices import _enumerated_vertices
+    from setsmooth.sets.cz_vertices import vertices_of
 
     rng = np.random.default_rng(seed)
     n = 3
@@ -274,4 +274,4 @@ def test_cz_vertices_equal_their_first_version_bit_for_bit(seed):
                   A @ (0.5 * rng.uniform(-1, 1, ng) * h), h))
     for G, c, A, b, h in cases:
         Z = ss.ConstrainedZonotope(G, c, A=A, b=b, h=h)
-        assert _enumerated_vertices(Z, 300_000).tobytes() == _reference_vertices(Z).tobytes()
+        assert vertices_of(Z.G, Z.c, Z.A, Z.b, Z.h, 300_000).tobytes() == _reference_vertices(Z).tobytes()
