@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import setsmooth as ss
-from setsmooth.sets.reduction.rescale import propagate
+from setsmooth.sets.reduction.propagation import propagate
 from tests.sets.strategies import (assert_supports_close, constrained_zonotopes, dims, ellipsoids,
                                    hpolytopes, rngs, sets, support_scale, zonotopes)
 
@@ -185,7 +185,7 @@ def _reference_propagate(A, b, h):
     from setsmooth import tolerances as tol
     from setsmooth.floating import gamma
     from setsmooth.sets.reduction._base import round_down, round_up
-    from setsmooth.sets.reduction.rescale import _others_with_infinities
+    from setsmooth.sets.reduction.propagation import _others_with_infinities
 
     nc, ng = A.shape
     M = np.hstack([A, np.eye(nc)])
@@ -315,17 +315,17 @@ def test_propagation_in_batches_equals_the_row_by_row_sweep_bit_for_bit(seed):
 def test_rows_a_batch_leaves_go_row_by_row_with_the_same_bounds(seed, monkeypatch):
     """A batch stops before a row whose floats it cannot vouch for (unbounded sums, a zero or NaN
     range: rare in practice, so flagged here at random); the rows from there on give the same bounds."""
-    from setsmooth.sets.reduction import rescale
+    from setsmooth.sets.reduction import propagation
 
     rng = np.random.default_rng(100 + seed)
-    batch_rows = rescale._rows
+    batch_rows = propagation._rows
 
     def flag_some(*args):
         qlo, qhi, fine = batch_rows(*args)
         fine = fine & (rng.random(fine.size) < 0.7)
         return qlo, qhi, np.logical_and.accumulate(fine)
 
-    monkeypatch.setattr(rescale, "_rows", flag_some)
+    monkeypatch.setattr(propagation, "_rows", flag_some)
     nc, ng = int(rng.integers(5, 25)), int(rng.integers(30, 90))
     A = _filter_like_rows(rng, nc, ng, blocks=1 + seed % 2)
     h = np.ones(ng)
@@ -514,7 +514,7 @@ def test_elimination_does_not_call_a_set_empty_when_the_solver_cannot_settle_it(
     # Propagation finds point-like data a hair infeasible; if the emptiness program then cannot be
     # settled, the set is not declared empty (the result must still contain it).
     import setsmooth.sets.reduction.constraints as constraints
-    from setsmooth.sets.reduction.rescale import FactorBounds
+    from setsmooth.sets.reduction.propagation import FactorBounds
 
     def crossed(A, b, h):
         fb = propagate(A, b, h)

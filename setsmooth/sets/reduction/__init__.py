@@ -42,7 +42,8 @@ from ._base import ReductionMethod
 from .constraints import EliminateConstraints
 from .exact import DropDependentConstraints, DropZeros, MergeParallelGenerators
 from .generators import Combastel, Girard, IntervalHull
-from .rescale import FactorBounds, Rescale, propagate, rescale_data
+from .propagation import FactorBounds, propagate
+from .rescale import Rescale, rescale_data
 
 __all__ = ["reduce", "ReductionMethod", "DropZeros", "DropDependentConstraints",
            "MergeParallelGenerators", "Rescale", "EliminateConstraints", "Girard", "Combastel",

@@ -8,7 +8,7 @@ Eliminating factor j through a constraint row i with a_ij ≠ 0 solves that row 
 
 This drops one constraint and one factor, and only loses the bound |ξ_j| ≤ h_j. So it is exact when
 that bound is implied by the others: for a free factor (h_j = ∞), and for a factor whose propagated
-range R_j (`rescale.propagate`) lies inside its bound. Otherwise it is an outer approximation, and
+range R_j (`propagation.propagate`) lies inside its bound. Otherwise it is an outer approximation, and
 the factor to give up is the one of smallest Hausdorff-error heuristic (Scott (A.8)): with
 r_j = max(0, max|R_j| − 1) after rescaling, the least-squares displacement δ with Aδ = 0, δ_j = r_j,
 minimizing ‖Gδ‖² + ‖δ‖², i.e. the KKT system [[GᵀG + I, Aᵀ], [A, 0]]; its value is r_j² / M_jj with
@@ -29,7 +29,8 @@ from ..empty import EmptySet
 from ..zonotope import Zonotope
 from ._base import CZData, ReductionMethod
 from .exact import DropDependentConstraints, DropZeros
-from .rescale import RESCALE_FLOOR, propagate, rescale_data
+from .propagation import propagate
+from .rescale import RESCALE_FLOOR, rescale_data
 from ...solvers import SolverError
 
 __all__ = ["EliminateConstraints", "eliminate_factor"]
