@@ -183,6 +183,8 @@ class SimplexAlongTime:
         self.m = A.shape[0]
 
     def solve(self, j: int, b: np.ndarray, h: np.ndarray) -> Answer:
+        """Objective j over {Aξ = b, |ξ| ≤ h} from its model's last basis: 'candidate' at an optimum
+        (for the caller's certificate), else the ladder's verdict."""
         return classify(*self.models.solve(j, b, h), self.m)
 
 
