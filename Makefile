@@ -19,8 +19,11 @@ $(STAMP): pyproject.toml
 test: $(STAMP)
 	OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 $(PY) -m pytest -n 2 -q tests setsmooth --doctest-modules
 
+# The examples two at a time (each with one BLAS thread), each one's output printed whole when it ends;
+# any failure fails the target (xargs exits non-zero), after the others have finished.
 examples: $(STAMP)
-	@for f in examples/*.py; do echo "== $$f"; MPLBACKEND=Agg $(PY) $$f || exit 1; done
+	@printf '%s\n' examples/*.py | xargs -P 2 -I{} sh -c 'out=$$(MPLBACKEND=Agg OPENBLAS_NUM_THREADS=1 \
+	  $(PY) "$$1" 2>&1); rc=$$?; printf "== %s\n%s\n" "$$1" "$$out"; exit $$rc' sh {}
 
 figures: examples
 	MPLBACKEND=Agg $(PY) -m setsmooth figures
