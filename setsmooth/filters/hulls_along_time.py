@@ -17,6 +17,9 @@ F_{k,0}(X0), P_k itself, and the next step tries a window twice as long: the ans
 program's, as a set's own `interval_hull` gives it, and so do the first steps, where that program is the cheaper one (`WINDOW_FACTOR`). So
 the result never depends on the window except through its cost.
 
+The two window programs are set up by `window_brackets`: on matrices kept per window length for a
+time-invariant system (the outer one re-solved warm along time), as trajectory CZs otherwise.
+
 For a detectable system the priors' influence on x_k fades geometrically with k − i, and a window of a
 few steps closes the bracket at every k: the cost per step is flat. For a system whose data do not
 forget (an undetectable unstable mode) the steps solve their own programs, the cost of today.
@@ -34,6 +37,7 @@ from ..sets.constrained_zonotope import ConstrainedZonotope
 from ..sets.empty import EmptySet
 from .._validation import measured
 from ..trajectories.sparse_cz import window_posterior
+from .window_brackets import EMPTY, solve, windows_for
 
 __all__ = ["GAP_TOL", "FIRST_WINDOW", "WINDOW_FACTOR", "filtered_hulls"]
 
@@ -49,10 +53,12 @@ GAP_TOL = 1e-7
 FIRST_WINDOW = 8
 
 #: Windows are used at step k only when k ≥ WINDOW_FACTOR × the window length; earlier steps solve
-#: the posterior's own program, which is cheaper there: a step's two window programs cost about as
-#: much as the own program of k ≈ 50 (4 states) to 175 (2 states, example (31)) steps at a window
-#: of 8, the programs' fixed costs (presolve, certificate) dominating both. The choice depends on k
-#: alone, never on time.
+#: the posterior's own program. With trajectory windows (`window_brackets`) a step's two window
+#: programs cost about as much as the own program of k ≈ 50 (4 states) to 175 (2 states, example
+#: (31)) steps at a window of 8. The fixed windows are cheaper, yet starting them earlier is slower
+#: (example (31), T = 800: 16.9 / 16.7 ms a step at factors 4 / 6 against 13.0 at 12, one run): in
+#: the first steps the brackets need long windows, and a length that closed is kept. The choice
+#: depends on k alone, never on time.
 WINDOW_FACTOR = 12
 
 
@@ -80,11 +86,6 @@ class _Step:
         m = P.mean(axis=0)
         r = P.shape[0]
         return ConstrainedZonotope(((P - m) / 2).T, m, np.ones((1, r)), [2.0 - r])
-
-
-def _solve(S: ConstrainedZonotope, D: np.ndarray):
-    """(values, points, bounds or None) of the support of S along the rows of D, one set of solves."""
-    return S._program.support_points_and_bounds(D)
 
 
 def filtered_hulls(system, X0: ConvexSet, ys: np.ndarray, *, certified: bool | None = None,
@@ -131,6 +132,7 @@ class _Run:
     def __init__(self, system, X0: ConvexSet, ys: np.ndarray, D: np.ndarray):
         self.system, self.ys, self.D = system, ys, D
         self.forms = tuple(S.to_constrained_zonotope() for S in (X0, system.W, system.V))
+        self.windows = windows_for(system, self.forms, D)
         self.settled: list[_Step | None] = []
         self.length = FIRST_WINDOW
 
@@ -140,13 +142,13 @@ class _Run:
             step = None
         else:
             step = self._bracketed(k)
-            step = self._own(k) if step is None else None if step is _EMPTY else step
+            step = self._own(k) if step is None else None if step is EMPTY else step
         self.settled.append(step)
         return step
 
     def _bracketed(self, k: int):
         """The step from the window of the current length, or of twice that length, whose bracket
-        closes; _EMPTY when an outer bound is empty; None when neither closes or no window is
+        closes; EMPTY when an outer bound is empty; None when neither closes or no window is
         cheaper than P_k's own program (k < WINDOW_FACTOR × length). A length that closed is kept
         for the next step, so the length settles at what the data need; when neither closes the
         next step starts at the longer one, so data whose brackets never close pay for O(log T)
@@ -162,14 +164,13 @@ class _Run:
         return None
 
     def _window(self, k: int, L: int):
-        """Step k from the bracket of the window k − L..k, _EMPTY, or None when it does not close."""
-        n, (_, Zw, Zv) = self.system.n, self.forms
-        prior, i = self.settled[k - L], k - L
-        upper_values, _, upper = _solve(window_posterior(self.system, prior.outer(), Zw, Zv, self.ys, i, k),
-                                        self.D)
-        if np.isneginf(upper_values).any():
-            return _EMPTY  # an outer bound of P_k is empty: P_k is
-        lower, points, _ = _solve(window_posterior(self.system, prior.inner(), Zw, Zv, self.ys, i, k), self.D)
+        """Step k from the bracket of the window k − L..k (`window_brackets`), EMPTY, or None when
+        it does not close."""
+        n = self.system.n
+        bracket = self.windows.bracket(self.settled[k - L], self.ys, k - L, k)
+        if bracket is EMPTY:
+            return EMPTY  # an outer bound of P_k is empty: P_k is
+        upper, lower, points = bracket
         if upper is not None and np.all(np.isfinite(lower)):
             diameter = max(float(np.max(lower[:n] + lower[n:])), 0.0)
             if np.all(upper - lower <= GAP_TOL * diameter):
@@ -179,11 +180,9 @@ class _Run:
     def _own(self, k: int) -> _Step | None:
         """Step k from P_k's own program (the trajectories 0..k)."""
         Z0, Zw, Zv = self.forms
-        values, points, upper = _solve(window_posterior(self.system, Z0, Zw, Zv, self.ys, 0, k), self.D)
+        values, points, upper = solve(window_posterior(self.system, Z0, Zw, Zv, self.ys, 0, k), self.D)
         if np.isneginf(values).any():
             return None
         return _Step(values if upper is None else upper, values, points)
 
-
-_EMPTY = object()
 
