@@ -318,14 +318,13 @@ def test_rows_a_batch_leaves_go_row_by_row_with_the_same_bounds(seed, monkeypatc
     from setsmooth.sets.reduction import propagation
 
     rng = np.random.default_rng(100 + seed)
-    batch_rows = propagation._rows
+    vouched = propagation._fine
 
     def flag_some(*args):
-        qlo, qhi, fine = batch_rows(*args)
-        fine = fine & (rng.random(fine.size) < 0.7)
-        return qlo, qhi, np.logical_and.accumulate(fine)
+        fine = vouched(*args)
+        return np.logical_and.accumulate(fine & (rng.random(fine.size) < 0.7))
 
-    monkeypatch.setattr(propagation, "_rows", flag_some)
+    monkeypatch.setattr(propagation, "_fine", flag_some)
     nc, ng = int(rng.integers(5, 25)), int(rng.integers(30, 90))
     A = _filter_like_rows(rng, nc, ng, blocks=1 + seed % 2)
     h = np.ones(ng)

@@ -34,7 +34,7 @@ def gauss_jordan(A: np.ndarray) -> np.ndarray:
     1-norm one.
     """
     nc, ng = A.shape
-    M = np.hstack([A, np.eye(nc)])
+    M = np.concatenate((A, np.eye(nc)), axis=1)
     # |entries| of the rows and columns still available; used ones are marked −1.
     free = np.abs(A)
     threshold = tol.RANK_TOL * free.max(initial=0.0)
@@ -129,13 +129,13 @@ def propagate(A: np.ndarray, b: np.ndarray, h: np.ndarray) -> FactorBounds:
     Ahi = np.where(exact, Ap, round_up(Ap + dA))
     seen = (Alo != 0.0) | (Ahi != 0.0)   # the factors of each row, found for all rows at once
     every = seen.all(axis=1)             # a row that sees every factor works on whole arrays
-    # A divisor interval containing 0 bounds nothing (`_row`); decided for all rows at once.
+    # A divisor interval containing 0 bounds nothing (`_rows`); decided for all rows at once.
     ok = (Alo > 0.0) | (Ahi < 0.0)
     bounds_all = (ok | ~seen).all(axis=1)
     sweep = _Sweep(Alo, Ahi, bp, db, ok, bounds_all, lo, hi, Rlo, Rhi)
     rows = Ap.shape[0]
     # Consecutive rows that see the same factors, [start, end) (a batch never crosses one's end).
-    ends = np.append(np.flatnonzero(np.any(seen[1:] != seen[:-1], axis=1)) + 1, rows)
+    ends = np.concatenate(((seen[1:] != seen[:-1]).any(axis=1).nonzero()[0] + 1, [rows]))
     # Rows per batch: after a batch that stopped early, as many as it took (rows evaluated past the
     # stop are evaluated again); after one that did not, twice as many.
     limit = rows
@@ -144,7 +144,7 @@ def propagate(A: np.ndarray, b: np.ndarray, h: np.ndarray) -> FactorBounds:
         while i < rows:
             # Whole rows instead of an index of every column: the same elements in the same order.
             cols = slice(None) if every[i] else seen[i].nonzero()[0]
-            end = min(int(ends[np.searchsorted(ends, i, side="right")]), i + limit)
+            end = min(int(ends[ends.searchsorted(i, side="right")]), i + limit)
             done = sweep.batch(i, end, cols) if end - i > 1 else 0
             if done == 0:
                 sweep.one(i, cols)
@@ -176,8 +176,8 @@ class _Sweep:
         """Row i by itself, on its factors ``cols``."""
         lo, hi, Rlo, Rhi = self.lo, self.hi, self.Rlo, self.Rhi
         xlo, xhi = lo[cols], hi[cols]
-        qlo, qhi = _row(self.Alo[i, cols], self.Ahi[i, cols], xlo, xhi, self.bp[i], self.db[i],
-                        None if self.bounds_all[i] else self.ok[i, cols])
+        qlo, qhi, _ = _rows(self.Alo[i, cols], self.Ahi[i, cols], xlo, xhi, self.bp[i], self.db[i],
+                            None if self.bounds_all[i] else self.ok[i, cols])
         qlo = np.maximum(qlo, Rlo[cols])
         qhi = np.minimum(qhi, Rhi[cols])
         Rlo[cols], Rhi[cols] = qlo, qhi
@@ -198,7 +198,7 @@ class _Sweep:
         """Rows i..end−1, all seeing the factors ``cols``, at once against the current box.
 
         Returns how many rows were taken: those up to and including the first that changes the box,
-        or up to the first that `_rows` leaves to `one` (unbounded sums, a zero or NaN range).
+        or up to the first whose floats it cannot vouch for (`_fine`), left to `one`.
         """
         xlo, xhi = self.lo[cols], self.hi[cols]
         Rlo, Rhi = self.Rlo[cols], self.Rhi[cols]
@@ -207,8 +207,9 @@ class _Sweep:
         if not ((np.abs(Rlo) > 0.0).all() and (np.abs(Rhi) > 0.0).all()):
             return 0   # a zero (or NaN) range from a row done by itself: row by row from here
         rows = slice(i, end)
-        qlo, qhi, fine = _rows(self.Alo[rows, cols], self.Ahi[rows, cols], xlo, xhi, self.bp[rows],
-                               self.db[rows], self.ok[rows, cols])
+        qlo, qhi, finite = _rows(self.Alo[rows, cols], self.Ahi[rows, cols], xlo, xhi, self.bp[rows],
+                                 self.db[rows], self.ok[rows, cols])
+        fine = _fine(qlo, qhi, finite)
         taken = int(fine.argmin()) if not fine.all() else end - i
         if taken == 0:
             return 0
@@ -224,25 +225,17 @@ class _Sweep:
         return taken
 
 
-def _row(alo, ahi, xlo, xhi, beta, dbeta, ok=None):
-    """The range of each ξ_j implied by one row Σ_l [alo_l, ahi_l] ξ_l ∈ [β − dβ, β + dβ] and the
-    other factors' boxes ξ_l ∈ [xlo_l, xhi_l], rounded outward; unbounded where ``ok`` is False (the
-    divisor interval [alo_j, ahi_j] contains 0; None: every one excludes it). `_rows` on one row.
-    """
-    qlo, qhi, _ = _rows(alo[None], ahi[None], xlo, xhi, np.array([beta]), np.array([dbeta]),
-                        True if ok is None else ok[None])
-    return qlo[0], qhi[0]
-
-
 def _rows(alo, ahi, xlo, xhi, beta, dbeta, ok):
-    """The ranges of `_row` for several rows at once (one per row of ``alo``, ``ahi``, ``ok``, entry
-    of ``beta``, ``dbeta``) against the same boxes [xlo, xhi]; every row's floats are those the row
-    gives by itself.
+    """The range of each ξ_j implied by a row Σ_l [alo_l, ahi_l] ξ_l ∈ [β − dβ, β + dβ] and the other
+    factors' boxes ξ_l ∈ [xlo_l, xhi_l], rounded outward; unbounded where ``ok`` is False (the divisor
+    interval [alo_j, ahi_j] contains 0; None: every one excludes it).
 
-    Returns ``(qlo, qhi, fine)``; ``fine`` is False from a row on whose sums are not finite or whose
-    range holds a zero or NaN (whose sign `batch`'s running maxima might treat differently): those
-    rows are to be redone one by one. A single row's infinite sums are counted here
-    (`_others_with_infinities`); several rows' are left to that.
+    One row (``alo``, ``ahi``, ``ok`` of shape (k,), scalar ``beta``, ``dbeta``) or several against the
+    same boxes (shape (r, k) and (r,)): the formula runs along the last axis, and every row's floats
+    are those it gives by itself.
+
+    Returns ``(qlo, qhi, finite)``; ``finite``: the row's sums are finite. A single row's infinite
+    sums are counted here (`_others_with_infinities`); several rows' are left to that (`_fine`).
     """
     # C order (an index of columns gives F order): a sum along the rows of a C-ordered array is each
     # row's pairwise sum, that of its 1-D sum; along an F-ordered one it adds term by term.
@@ -252,24 +245,32 @@ def _rows(alo, ahi, xlo, xhi, beta, dbeta, ok):
     # other candidates then carry the bound, as the interval product requires.
     tlo = np.fmin(np.fmin(p1, p2), np.fmin(p3, p4))
     thi = np.fmax(np.fmax(p1, p2), np.fmax(p3, p4))
-    slo, shi = tlo.sum(axis=1), thi.sum(axis=1)
+    slo, shi = tlo.sum(axis=-1), thi.sum(axis=-1)
     finite = np.isfinite(slo) & np.isfinite(shi)
-    if finite.all() or tlo.shape[0] > 1:
-        olo, ohi = slo[:, None] - tlo, shi[:, None] - thi
-        mag = np.abs(tlo).sum(axis=1) + np.abs(thi).sum(axis=1)
+    if tlo.ndim > 1 or finite:
+        olo, ohi = slo[..., None] - tlo, shi[..., None] - thi
+        mag = np.abs(tlo).sum(axis=-1) + np.abs(thi).sum(axis=-1)
     else:  # one row with infinite terms: they are counted, not subtracted
-        olo, ohi, m = _others_with_infinities(tlo[0], thi[0])
-        olo, ohi, mag = olo[None], ohi[None], np.array([m])
+        olo, ohi, mag = _others_with_infinities(tlo, thi)
     # One bound for every rounding so far (products, sums, the subtraction of the own term, the two
     # operations below): γ_{k+4} times the magnitudes involved.
-    err = gamma(tlo.shape[1] + 4) * (mag + np.abs(beta) + dbeta)
-    nlo = (beta - dbeta)[:, None] - ohi - err[:, None]
-    nhi = (beta + dbeta)[:, None] - olo + err[:, None]
+    err = (gamma(tlo.shape[-1] + 4) * (mag + np.abs(beta) + dbeta))[..., None]
+    nlo = (beta - dbeta)[..., None] - ohi - err
+    nhi = (beta + dbeta)[..., None] - olo + err
     q1, q2, q3, q4 = nlo / alo, nlo / ahi, nhi / alo, nhi / ahi
-    qlo = np.where(ok, round_down(np.fmin(np.fmin(q1, q2), np.fmin(q3, q4))), -np.inf)
-    qhi = np.where(ok, round_up(np.fmax(np.fmax(q1, q2), np.fmax(q3, q4))), np.inf)
+    qlo = round_down(np.fmin(np.fmin(q1, q2), np.fmin(q3, q4)))
+    qhi = round_up(np.fmax(np.fmax(q1, q2), np.fmax(q3, q4)))
+    if ok is not None:
+        qlo, qhi = np.where(ok, qlo, -np.inf), np.where(ok, qhi, np.inf)
+    return qlo, qhi, finite
+
+
+def _fine(qlo, qhi, finite):
+    """Rows of a batch (`_rows` on several) whose floats it vouches for, up to the first that is not:
+    finite sums and a range holding no zero or NaN (whose sign `batch`'s running maxima might treat
+    differently)."""
     fine = finite & (np.abs(qlo) > 0.0).all(axis=1) & (np.abs(qhi) > 0.0).all(axis=1)
-    return qlo, qhi, np.logical_and.accumulate(fine)
+    return np.logical_and.accumulate(fine)
 
 
 def _others_with_infinities(tlo: np.ndarray, thi: np.ndarray):
