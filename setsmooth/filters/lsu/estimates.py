@@ -169,7 +169,8 @@ def closest_point_of_hull(geometry: HullGeometry, c: np.ndarray) -> np.ndarray:
     Returns
     -------
     ndarray, shape (n,)
-        ``c`` itself when it lies in conv(V), else an exact minimizer of ‖x − c‖∞ over conv(V) (up to
+        ``c`` itself when it lies in conv(V) (in one of the fan's simplices, its barycentric weights
+        there ≥ −``VERTEX_FEASIBILITY_TOL``), else an exact minimizer of ‖x − c‖∞ over conv(V) (up to
         rounding and the weight slack of `_face_crossings`).
 
     Notes
