@@ -28,6 +28,7 @@ from scipy.sparse.linalg import lsqr, splu
 
 from ..floating import ETA, U, gamma
 from .clarabel_lp import SolverError
+from .presolved import CompiledProduct, compiled
 from .small_products import SmallProduct
 
 __all__ = ["free_factor_bound", "normal_solver", "correct_multipliers", "certified_bound",
@@ -131,8 +132,10 @@ def correct_multipliers(AF: sp.csc_matrix, gF: np.ndarray, lam: np.ndarray,
         return lam
     out = lam.copy()
     AFt = sp.csr_matrix(AF.T) if AFt is None else AFt
-    AFc = sp.csc_matrix(AF)
-    res = gF - np.asarray(AFt @ lam.T).T
+    AFc = AF.tocsc()
+    # The products by scipy's kernels called directly (`presolved.CompiledProduct`), bit for bit.
+    times, times_t = CompiledProduct(AFc), CompiledProduct(AFt)
+    res = gF - np.asarray(times_t @ lam.T).T
     active = np.any(res != 0, axis=1)
     # Two passes: the second removes what the first left by rounding or stopping tolerance. A row
     # stops at its first pass without progress (it keeps the better multiplier).
@@ -143,13 +146,13 @@ def correct_multipliers(AF: sp.csc_matrix, gF: np.ndarray, lam: np.ndarray,
         if solve_normal is not None:
             y = np.asarray(solve_normal(np.ascontiguousarray(res[rows].T))).reshape(AF.shape[1], -1)
             finite = np.all(np.isfinite(y), axis=0)
-            delta = np.asarray(AFc @ np.where(finite, y, 0.0)).T
+            delta = np.asarray(times @ np.where(finite, y, 0.0)).T
         else:
             finite = np.ones(rows.size, dtype=bool)
             delta = np.array([lsqr(AFt, res[i], atol=1e-15, btol=1e-15,
                                    iter_lim=10 * AF.shape[1] + 50)[0] for i in rows])
         candidate = out[rows] + delta
-        new_res = gF[rows] - np.asarray(AFt @ candidate.T).T
+        new_res = gF[rows] - np.asarray(times_t @ candidate.T).T
         progress = finite & (np.abs(new_res).max(axis=1) < np.abs(res[rows]).max(axis=1))
         better = rows[progress]
         out[better], res[better] = candidate[progress], new_res[progress]
@@ -165,19 +168,23 @@ class Operators:
     factor set shared by many CZs (the projections of one trajectory set)."""
 
     def __init__(self, G, A: sp.csc_matrix, factor_part: tuple | None = None):
-        dense = not sp.issparse(G)
-        self.Gt = np.ascontiguousarray(G.T) if dense else sp.csr_matrix(G.T)
-        self.absGt = np.abs(self.Gt) if dense else abs(self.Gt)
+        if sp.issparse(G):  # by scipy's kernels (`CompiledProduct`); |Gᵀ| first, as abs(Gᵀ) sums
+            Gt = sp.csr_matrix(G.T)  # the duplicates of Gᵀ (sharing G's arrays) in place
+            self.absGt = CompiledProduct(Gt, absolute=True)
+            self.Gt = CompiledProduct(Gt)
+        else:
+            self.Gt = np.ascontiguousarray(G.T)
+            self.absGt = np.abs(self.Gt)
         self.At, self.absAt, self.gamma_cols = (Operators.factor_part(A) if factor_part is None
                                                 else factor_part)
 
     @staticmethod
-    def factor_part(A: sp.csc_matrix) -> tuple[SmallProduct, SmallProduct, np.ndarray]:
+    def factor_part(A: sp.csc_matrix) -> tuple:
         """(Aᵀ, |A|ᵀ, γ_{m_j+2} per column): what `certified_bound` needs of the factor set (the
-        products as `small_products.SmallProduct`s: scipy's, bit for bit)."""
+        products as `small_products.SmallProduct`s, `presolved.compiled`: scipy's, bit for bit)."""
         col_nnz = np.diff(A.indptr) if A.shape[0] else np.zeros(A.shape[1], dtype=int)
-        return (SmallProduct(A, transpose=True), SmallProduct(A, transpose=True, absolute=True),
-                gamma(col_nnz + 2))
+        return (compiled(SmallProduct(A, transpose=True)),
+                compiled(SmallProduct(A, transpose=True, absolute=True)), gamma(col_nnz + 2))
 
 
 def certified_bound(d: np.ndarray, G, c: np.ndarray, A: sp.csc_matrix, b: np.ndarray,

@@ -31,6 +31,7 @@ from .clarabel_lp import SolverError
 from .cz_membership import contains
 from .factor_set import FactorConstraints
 from .instances import cached_instance
+from .presolved import CompiledProduct
 from .warm_simplex import Batch
 
 __all__ = ["CZProgram", "SupportSolution"]
@@ -250,15 +251,21 @@ class CZProgram:
         """The objectives Gᵀd of the rows d of ``D`` (k, ng), their rounding magnitudes (None each
         without free factors) and the policy's purpose (`policy.policy`)."""
         k = D.shape[0]
-        GtD = np.asarray((self.G.T @ D.T).T)  # (k, ng): objective of each direction
+        GtD = np.asarray((self._transposed() @ D.T).T)  # (k, ng): objective of each direction
         magnitude = [None] * k
         if self.factors.free.size:  # rounding level of GtD: noise below it is an exact zero
-            absG = abs(self.G) if sp.issparse(self.G) else np.abs(self.G)
-            magnitude = np.asarray((absG.T @ np.abs(D).T).T) * (1 + self.G.shape[0])
+            magnitude = np.asarray((self._transposed(True) @ np.abs(D).T).T) * (1 + self.G.shape[0])
         # `_verified` brackets every answer by a certified bound where one exists and escalates the
         # loose ones: a rough answer goes straight to the simplex method then.
         bracketed = self.factors.free.size == 0 or self.factors.free_bound() is not None
         return GtD, magnitude, "escalated" if escalate else "bracketed" if bracketed else "plain"
+
+    def _transposed(self, absolute: bool = False):
+        """Gᵀ (|G|ᵀ) for products bit for bit ``G.T @ X`` (``abs(G).T @ X``): scipy's kernels on G's
+        arrays when sparse (`presolved.CompiledProduct`), a transposed view when dense."""
+        if sp.issparse(self.G):
+            return CompiledProduct(self.G, transpose=True, absolute=absolute)
+        return (np.abs(self.G) if absolute else self.G).T
 
     def _maximize(self, g: np.ndarray, magnitude, certified: bool, tight: bool, purpose: str,
                   batch: object, xi: np.ndarray, lam: np.ndarray) -> bool:
@@ -302,11 +309,7 @@ class CZProgram:
         bound = 0.0
         if free.size:
             AF, AFt, _ = self.factors.certificate_operators()
-            GF = self.__dict__.get("_G_free")
-            if GF is None:
-                GF = self.__dict__["_G_free"] = (sp.csr_matrix(self.G[:, free].T)
-                                                 if sp.issparse(self.G) else self.G[:, free])
-            gF = np.asarray((GF @ D[rows].T).T) if sp.issparse(self.G) else D[rows] @ GF
+            gF = self._free_objectives(D[rows], free)
             solve_normal = cached_instance(self.factors, "normal equations of the free factors",
                                            lambda: normal_solver(AF))
             corrected = correct_multipliers(AF, gF, lam, solve_normal, AFt)
@@ -320,6 +323,16 @@ class CZProgram:
                     pass
             lam = corrected
         return self._bound(D, values, rows, lam, bound)
+
+    def _free_objectives(self, D: np.ndarray, free: np.ndarray) -> np.ndarray:
+        """g_F = (Gᵀd)_F for the rows d of ``D``: for a sparse G the free entries of the product
+        with all of Gᵀ (each the same sum as with Gᵀ's free rows alone), for a dense one D G_F."""
+        if sp.issparse(self.G):
+            return np.asarray((self._transposed() @ D.T).T)[:, free]
+        GF = self.__dict__.get("_G_free")
+        if GF is None:
+            GF = self.__dict__["_G_free"] = self.G[:, free]
+        return D @ GF
 
     def _bound(self, D, values, rows, lam, bound):
         if self._ops is None:
