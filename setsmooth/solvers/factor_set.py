@@ -38,6 +38,8 @@ __all__ = ["FactorConstraints", "Maximized", "STACK_MAX_VARIABLES", "DENSE_PRESO
 #: (a direction orthogonal to the free factors' lineality, computed in floating point).
 NOISE_FACTOR = 64
 
+_EPS = np.finfo(float).eps
+
 #: A part of a joined factor set (`FactorConstraints.joined`) with at most this many free factors has
 #: its dense free-factor bound computed when the parts are joined.
 CHEAP_FREE_BOUND_MAX = 60
@@ -216,7 +218,7 @@ class FactorConstraints:
             When no attempt and no last resort settles the program.
         """
         if magnitude is not None:
-            g = np.where(np.abs(g) <= NOISE_FACTOR * np.finfo(float).eps * magnitude, 0.0, g)
+            g = np.where(np.abs(g) <= NOISE_FACTOR * _EPS * magnitude, 0.0, g)
         else:
             magnitude = np.abs(g)
         kept = self.presolved

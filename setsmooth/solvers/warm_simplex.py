@@ -228,7 +228,8 @@ class WarmSimplex:
         (or the batch is too large, or q is not one of its objectives)."""
         if self._block is None or self._block[0] is not batch:
             self._block = (batch, self._solve_block(pre, batch))
-        return self._block[1].get(q.tobytes())
+        answers = self._block[1]
+        return answers.get(q.tobytes()) if answers else None
 
     def _solve_block(self, pre, batch: Batch) -> dict:
         m, p = self.shape
