@@ -39,7 +39,8 @@ from .._validation import measured
 from ..trajectories.sparse_cz import window_posterior
 from .window_brackets import EMPTY, solve, windows_for
 
-__all__ = ["GAP_TOL", "FIRST_WINDOW", "WINDOW_FACTOR", "filtered_hulls"]
+__all__ = ["GAP_TOL", "FIRST_WINDOW", "WINDOW_FACTOR", "FIXED_WINDOW_FACTOR", "SHRINK_EVERY",
+           "filtered_hulls"]
 
 #: The bracket (certified upper end minus inner lower end) accepted, relative to the hull's widest
 #: edge (its ∞-diameter): an order below the 1e-6 that the hulls are held to. Relative to the set's
@@ -52,14 +53,20 @@ GAP_TOL = 1e-7
 #: closes, and doubles the length when neither does.
 FIRST_WINDOW = 8
 
-#: Windows are used at step k only when k ≥ WINDOW_FACTOR × the window length; earlier steps solve
-#: the posterior's own program. With trajectory windows (`window_brackets`) a step's two window
-#: programs cost about as much as the own program of k ≈ 50 (4 states) to 175 (2 states, example
-#: (31)) steps at a window of 8. The fixed windows are cheaper, yet starting them earlier is slower
-#: (example (31), T = 800: 16.9 / 16.7 ms a step at factors 4 / 6 against 13.0 at 12, one run): in
-#: the first steps the brackets need long windows, and a length that closed is kept. The choice
-#: depends on k alone, never on time.
+#: Windows are used at step k only when k ≥ the window factor × the window length; earlier steps
+#: solve the posterior's own program, which is cheaper there. With trajectory windows
+#: (`window_brackets.TrajectoryWindows`) a step's two window programs cost about as much as the own
+#: program of k ≈ 50 (4 states) to 175 (2 states, example (31)) steps at a window of 8: factor 12.
+#: The fixed windows of a time-invariant system are cheaper (example (31), T = 800, with
+#: ``SHRINK_EVERY``: 6.6–7.3 ms a step at factor 4 against 8.6–9.9 at 12, two runs side by side):
+#: factor 4. The choice depends on k alone, never on time.
 WINDOW_FACTOR = 12
+FIXED_WINDOW_FACTOR = 4
+
+#: Every SHRINK_EVERY steps a step first tries half the current window length (not below
+#: FIRST_WINDOW): a length is otherwise kept once it closed, and the first steps, whose posteriors
+#: are still wide, need long windows that the later ones do not.
+SHRINK_EVERY = 16
 
 
 class _Step:
@@ -133,6 +140,7 @@ class _Run:
         self.system, self.ys, self.D = system, ys, D
         self.forms = tuple(S.to_constrained_zonotope() for S in (X0, system.W, system.V))
         self.windows = windows_for(system, self.forms, D)
+        self.factor = FIXED_WINDOW_FACTOR if self.windows.fixed else WINDOW_FACTOR
         self.settled: list[_Step | None] = []
         self.length = FIRST_WINDOW
 
@@ -149,12 +157,16 @@ class _Run:
     def _bracketed(self, k: int):
         """The step from the window of the current length, or of twice that length, whose bracket
         closes; EMPTY when an outer bound is empty; None when neither closes or no window is
-        cheaper than P_k's own program (k < WINDOW_FACTOR × length). A length that closed is kept
-        for the next step, so the length settles at what the data need; when neither closes the
-        next step starts at the longer one, so data whose brackets never close pay for O(log T)
-        windows in a run, not two per step."""
-        for L in (self.length, 2 * self.length):
-            if k < WINDOW_FACTOR * L:
+        cheaper than P_k's own program (k < the window factor × length). A length that closed is
+        kept for the next step, so the length settles at what the data need, and every
+        ``SHRINK_EVERY`` steps half of it is tried first; when neither closes the next step starts
+        at the longer one, so data whose brackets never close pay for O(log T) windows in a run,
+        not two per step."""
+        lengths = (self.length, 2 * self.length)
+        if k % SHRINK_EVERY == 0 and self.length >= 2 * FIRST_WINDOW:
+            lengths = (self.length // 2,) + lengths
+        for L in lengths:
+            if k < self.factor * L:
                 return None
             step = self._window(k, L)
             if step is not None:

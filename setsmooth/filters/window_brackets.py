@@ -10,11 +10,13 @@ two programs:
   (`trajectories.sparse_cz.window_posterior`), assembled and presolved anew at every step.
 * `FixedWindows`, for a time-invariant system (A, C, E, F constant; a known input allowed): the
   states eliminated as in the OIT-CZ windows (`filters._window.Window`, stability paper (23)), whose
-  matrices depend on (system, k − i) alone. The outer window's prior O_i = {c + ξ : |ξ| ≤ r} enters
-  only b, the centre and the factor bounds, so its certified support values come from one
-  `ParametricSupport` session per window length, warm along time (the solver policy's 'along
-  time' purpose), with the window's rounding charges; the inner window's prior columns A^L·P̃ and
-  CA^j·P̃ follow the points, so it is a small dense CZ per step.
+  matrices depend on (system, k − i) alone, kept per window length and re-solved warm along time
+  (the solver policy's 'along time' purpose). The outer window's prior O_i = {c + ξ : |ξ| ≤ r}
+  enters only b, the centre and the factor bounds: certified support values from a
+  `ParametricSupport` session, with the window's rounding charges. The inner window's prior
+  x_i = m + P̃ξ_λ (P̃ = (P − m)/2, 1ᵀξ_λ = 2 − r) keeps x_i as free factors, so the points enter
+  the matrix only as the block −P̃ of n × r entries: support points from a `ParametricPoints`
+  session, checked to satisfy the program.
 
 Both return the same brackets up to the solvers' accuracy; `hulls_along_time` accepts a bracket only
 when it is closed to ``GAP_TOL`` of the hull's diameter, so the hulls do not depend on which built it
@@ -28,7 +30,7 @@ import numpy as np
 from ..sets import rounding
 from ..sets.constrained_zonotope import ConstrainedZonotope
 from ..solvers.clarabel_lp import SolverError
-from ..solvers.parametric import ParametricSupport
+from ..solvers.parametric import ParametricPoints, ParametricSupport
 from ..trajectories.sparse_cz import window_posterior
 from ._window import Window
 
@@ -54,6 +56,8 @@ def solve(S: ConstrainedZonotope, D: np.ndarray):
 class TrajectoryWindows:
     """Both windows as trajectory CZs over the states i..k (any system)."""
 
+    fixed = False
+
     def __init__(self, system, forms: tuple, D: np.ndarray):
         self.system, self.D = system, D
         _, self.Zw, self.Zv = forms
@@ -73,24 +77,26 @@ class TrajectoryWindows:
 class FixedWindows:
     """Both windows on the state-eliminated matrices of a time-invariant system, kept per length."""
 
+    fixed = True
+
     def __init__(self, system, D: np.ndarray):
         self.system, self.D, self.n = system, D, system.n
         self._parts: dict[int, tuple] = {}
 
     def _part(self, length: int) -> tuple:
-        """The window of this length and the warm session of its outer programs."""
+        """The window of this length and the warm sessions of its outer and inner programs."""
         part = self._parts.get(length)
         if part is None:
             window = Window(self.system, length, np.eye(self.n))
-            session = ParametricSupport(window.G, window.A, self.D, window.free(0)).session()
-            part = self._parts[length] = (window, session)
+            outer = ParametricSupport(window.G, window.A, self.D, window.free(0)).session()
+            part = self._parts[length] = (window, outer, _inner_engine(window, self.D).session())
         return part
 
     def bracket(self, prior, ys: np.ndarray, i: int, k: int):
         """As `TrajectoryWindows.bracket`; ``prior`` gives ``upper`` (its certified support values
         along [I; −I]) and ``points`` (its maximizers)."""
         n = self.n
-        window, outer = self._part(k - i)
+        window, outer, inner = self._part(k - i)
         lo, hi = -prior.upper[n:], prior.upper[:n]  # finite: P_i is bounded
         centre = (lo + hi) / 2
         # {centre + ξ : |ξ| ≤ radius} ⊇ [lo, hi] though the centre and the differences are rounded
@@ -102,18 +108,32 @@ class FixedWindows:
             upper = None
         if upper is not None and np.isneginf(upper).any():
             return EMPTY
-        lower, points, _ = solve(self._inner(window, prior.points, ys, k), self.D)
+        # The inner window: x_i = m + ξ_x with ξ_x = P̃ξ_λ, 1ᵀξ_λ = 2 − r, P̃ = (P − m)/2 (the prior
+        # of `hulls_along_time._Step.inner`); only P̃ is in the matrix, as the block −P̃.
+        P = prior.points
+        m = P.mean(axis=0)
+        c, b, h = window.data(ys, k, m, np.zeros(n))
+        r = P.shape[0]
+        b = np.concatenate([b, np.zeros(n), [2.0 - r]])
+        h = np.concatenate([np.full(n, np.inf), np.ones(r), h[n:]])
+        lower, points = inner.points(c, b, h, (-(P - m) / 2).T.ravel())
         return upper, lower, points
 
-    def _inner(self, window: Window, P: np.ndarray, ys: np.ndarray, k: int) -> ConstrainedZonotope:
-        """F_{k,i}(conv P) on the window's matrices: the prior Z((P − m)/2, m, 1ᵀ, 2 − r) of
-        `hulls_along_time`'s inner set, its generators mapped through the prior columns."""
-        n, r = self.n, P.shape[0]
-        m = P.mean(axis=0)
-        half = ((P - m) / 2).T
-        c, b, _ = window.data(ys, k, m, np.zeros(n))
-        G = np.hstack([window.G[:, :n] @ half, window.G[:, n:]])
-        simplex = np.zeros((1, r + window.ng - n))
-        simplex[0, :r] = 1.0
-        A = np.vstack([np.hstack([window.A[:, :n] @ half, window.A[:, n:]]), simplex])
-        return ConstrainedZonotope._trusted(G, c, A, np.append(b, 2.0 - r), np.ones(G.shape[1]))
+
+def _inner_engine(window: Window, D: np.ndarray) -> ParametricPoints:
+    """The inner windows of one length: factors [ξ_x (n, free) | ξ_λ (r = 2n) | the window's noise
+    factors], rows [the window's rows, ξ_x in its prior columns; ξ_x − P̃ξ_λ = 0; 1ᵀξ_λ = 2 − r];
+    the block is P̃'s place (−P̃, row by row)."""
+    n = window.n
+    r = D.shape[0]
+    nc, ng = window.A.shape
+    G = np.hstack([window.G[:, :n], np.zeros((n, r)), window.G[:, n:]])
+    A = np.zeros((nc + n + 1, ng + r))
+    A[:nc, :n], A[:nc, n + r:] = window.A[:, :n], window.A[:, n:]
+    A[nc:nc + n, :n] = np.eye(n)
+    A[nc:nc + n, n:n + r] = 1.0  # placeholders for −P̃
+    A[nc + n, n:n + r] = 1.0
+    block = (nc + np.repeat(np.arange(n), r), n + np.tile(np.arange(r), n))
+    free = np.zeros(ng + r, dtype=bool)
+    free[:n] = True
+    return ParametricPoints(G, A, D, free, block)

@@ -13,7 +13,8 @@ A *sequence* backend keeps state along a sequence of programs that share their c
 and differ in b and the factor bounds (the OIT-CZ windows, `parametric.ParametricSupport`), min q_jᵀξ
 over {Aξ = b, |ξ_i| ≤ h_i} for fixed objectives q_j: ``SEQUENCE_BACKENDS[name](A, Q, free)`` is made
 once per sequence and its ``solve(j, b, h) -> Answer`` answers objective j of the current program,
-in the same vocabulary, for the caller's certificate to judge:
+in the same vocabulary, for the caller's certificate (or check) to judge; a backend made with
+``block=(rows, cols)`` also takes new values of those entries of A (``set_block``) between programs:
 
 * 'simplex along time': one HiGHS model per objective, re-solved by the dual simplex method from
   its last optimal basis (`highs.DirectionModels`).
@@ -176,16 +177,45 @@ BACKENDS: dict[str, Backend] = {
 
 
 class SimplexAlongTime:
-    """'simplex along time': `highs.DirectionModels`, its answers in `Answer`'s vocabulary."""
+    """'simplex along time': `highs.DirectionModels`, its answers in `Answer`'s vocabulary.
 
-    def __init__(self, A: sp.csc_matrix, Q: np.ndarray, free: np.ndarray):
-        self.models = DirectionModels(A, Q, free)
+    ``block``: (rows, cols) of entries of A that change along the sequence too (`set_block`); A must
+    hold them as stored entries (nonzero placeholders), so every model has them to change."""
+
+    def __init__(self, A: sp.csc_matrix, Q: np.ndarray, free: np.ndarray,
+                 block: tuple[np.ndarray, np.ndarray] | None = None):
+        self.models = DirectionModels(A if block is None else A.copy(), Q, free)
         self.m = A.shape[0]
+        self.block = block
+        self._values: np.ndarray | None = None      # the block's current values
+        self._synced: dict[int, np.ndarray] = {}    # the values each direction's model holds
+
+    def set_block(self, values: np.ndarray) -> None:
+        """The block's entries for the next programs (in the order of ``block``)."""
+        self._values = np.asarray(values, dtype=float)
 
     def solve(self, j: int, b: np.ndarray, h: np.ndarray) -> Answer:
         """Objective j over {Aξ = b, |ξ| ≤ h} from its model's last basis: 'candidate' at an optimum
         (for the caller's certificate), else the ladder's verdict."""
+        if self._values is not None:
+            self._sync(j)
         return classify(*self.models.solve(j, b, h), self.m)
+
+    def _sync(self, j: int) -> None:
+        """Direction j's model to the block's current values (changed entries only)."""
+        rows, cols = self.block
+        if self.models.models is None:  # the models are built from A: give it the values first
+            A = self.models.A
+            for r, c, v in zip(rows, cols, self._values):
+                A[r, c] = v
+            self._synced = {i: self._values for i in range(len(self.models.Q))}
+            return
+        held = self._synced.get(j)
+        model = self.models.models[j]
+        changed = np.arange(rows.size) if held is None else np.flatnonzero(held != self._values)
+        for e in changed:
+            model.changeCoeff(int(rows[e]), int(cols[e]), float(self._values[e]))
+        self._synced[j] = self._values
 
 
 #: The sequence backends by name (see the module docstring).

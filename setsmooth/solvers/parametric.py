@@ -10,6 +10,10 @@ direction's previous optimal basis (`highs.DirectionModels`): a change of b and 
 dual feasible (the objective did not change), so the dual method starts at once. Nothing is
 presolved or rebuilt per step.
 
+`ParametricPoints` does the same for support points (values at checked points, not bounds) of a
+sequence whose matrix also changes in a declared block of entries: the inner windows of the exact
+filter's hulls along time (`setsmooth.filters.window_brackets`).
+
 The warm bases are state of one run, held by a `ParametricSupport.session` that the run makes and
 drops (the OIT-CZ loop makes one per window structure), so a run's answers are a function of its own
 data, the same whatever ran before on the same engine and in whichever thread.
@@ -33,13 +37,14 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from .. import tolerances as tol
 from ..floating import U, gamma
 from .certify import FREE_BOUND_DENSE_MAX, certified_bound
 from .clarabel_lp import SolverError, _csc
 from .backends import SEQUENCE_BACKENDS
 from .policy import policy
 
-__all__ = ["ParametricSupport", "WarmSession"]
+__all__ = ["ParametricPoints", "ParametricSupport", "PointSession", "WarmSession"]
 
 
 class ParametricSupport:
@@ -218,3 +223,87 @@ def _free_lam_min(A: sp.csc_matrix, free_cols: np.ndarray) -> float | None:
     gram_err = float(gamma(A.shape[0] + 2) * np.linalg.norm((absAF.T @ absAF).toarray()))
     eig_err = 8.0 * free_cols.size * U * np.linalg.norm(gram)
     return float(np.linalg.eigvalsh(gram)[0]) - gram_err - eig_err
+
+
+class ParametricPoints:
+    """Support points of Z(G, c, A, b, h) for fixed G and directions D, where b, c, h and one block
+    of entries of A change from program to program (the inner windows of
+    `setsmooth.filters.window_brackets`, whose prior's points enter A).
+
+    The values are the solver's, at points checked to satisfy the program to ``SOLVER_CHECK_TOL`` of
+    its scale: lower ends of a bracket (points of the set to the solver's accuracy), not bounds.
+
+    Parameters
+    ----------
+    G : ndarray, shape (n, ng)
+    A : ndarray, shape (nc, ng)
+        With the block's entries set to any values but 0 (they are stored entries).
+    D : ndarray, shape (K, n)
+    free : ndarray of bool, shape (ng,)
+    block : (ndarray, ndarray)
+        Row and column indices of the entries of A that change.
+    """
+
+    def __init__(self, G: np.ndarray, A: np.ndarray, D: np.ndarray, free: np.ndarray,
+                 block: tuple[np.ndarray, np.ndarray]):
+        self.G = np.asarray(G, dtype=float)
+        self.A_dense = np.array(A, dtype=float)
+        self.A = _csc(self.A_dense)
+        self.D = np.asarray(D, dtype=float)
+        self.free = np.asarray(free, dtype=bool)
+        self.block = tuple(np.asarray(ix, dtype=np.int64) for ix in block)
+        self._q = -(self.D @ self.G)
+        self.absA = np.abs(self.A_dense)
+
+    def session(self) -> "PointSession":
+        """A run's warm models (one thread at a time)."""
+        return PointSession(self)
+
+
+class PointSession:
+    """The sequence backends of a `ParametricPoints` for one run (the solver policy's 'along time'
+    attempts), each backend's models kept from program to program."""
+
+    def __init__(self, engine: ParametricPoints):
+        self.engine = engine
+        self.states: dict = {}
+
+    def points(self, c: np.ndarray, b: np.ndarray, h: np.ndarray, block: np.ndarray
+               ) -> tuple[np.ndarray, np.ndarray]:
+        """(values, points) of the support along each direction of Z(G, c, A, b, h) with the block's
+        entries ``block``; NaN where no backend gave a point that passes the check."""
+        e = self.engine
+        K, n = e.D.shape
+        A, absA = e.A_dense.copy(), e.absA.copy()
+        A[e.block], absA[e.block] = block, np.abs(block)
+        values, points = np.full(K, np.nan), np.full((K, n), np.nan)
+        bounded = ~e.free
+        scale = 1.0 + np.abs(b).max(initial=0.0)
+        for attempt in policy(e, "along time"):
+            state = self.states.get(attempt.backend)
+            if state is None:
+                state = self.states[attempt.backend] = SEQUENCE_BACKENDS[attempt.backend](
+                    e.A, e._q, e.free, block=e.block)
+            state.set_block(block)
+            for j in np.flatnonzero(np.isnan(values)):
+                answer = state.solve(j, b, h)
+                xi = answer.eta
+                if answer.status != "candidate" or not np.all(np.isfinite(xi)):
+                    continue
+                if _satisfies(A, absA, b, h, bounded, xi, scale):
+                    points[j] = c + e.G @ xi
+                    values[j] = e.D[j] @ points[j]
+            if not np.isnan(values).any():
+                break
+        return values, points
+
+
+def _satisfies(A: np.ndarray, absA: np.ndarray, b: np.ndarray, h: np.ndarray, bounded: np.ndarray,
+               xi: np.ndarray, scale: float) -> bool:
+    """Whether Aξ = b and |ξ_B| ≤ h_B hold to ``SOLVER_CHECK_TOL`` of the program's scale (the
+    check a point of a bracket's lower end passes, as `Presolved.checked_gaps` in presolved units)."""
+    residual = np.abs(A @ xi - b).max(initial=0.0)
+    overshoot = (np.abs(xi[bounded]) - h[bounded]).max(initial=0.0)
+    size = scale + (absA @ np.abs(xi)).max(initial=0.0)
+    return bool(residual <= tol.SOLVER_CHECK_TOL * size
+                and overshoot <= tol.SOLVER_CHECK_TOL * (1.0 + h[bounded].max(initial=0.0)))

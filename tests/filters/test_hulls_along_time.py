@@ -19,6 +19,7 @@ def windows_from_the_first_steps(monkeypatch, request):
     trajectory windows of any system."""
     monkeypatch.setattr(along, "FIRST_WINDOW", 4)
     monkeypatch.setattr(along, "WINDOW_FACTOR", 2)
+    monkeypatch.setattr(along, "FIXED_WINDOW_FACTOR", 2)
     if request.param == "trajectory":
         monkeypatch.setattr(along, "windows_for", brackets.TrajectoryWindows)
     return request.param
