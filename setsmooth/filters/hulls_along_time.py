@@ -17,8 +17,9 @@ F_{k,0}(X0), P_k itself, and the next step tries a window twice as long: the ans
 program's, as a set's own `interval_hull` gives it, and so do the first steps, where that program is the cheaper one (`WINDOW_FACTOR`). So
 the result never depends on the window except through its cost.
 
-The two window programs are set up by `window_brackets`: on matrices kept per window length for a
-time-invariant system (the outer one re-solved warm along time), as trajectory CZs otherwise.
+The two window programs are set up by `window_brackets`: trajectory CZs whose solver engines are
+kept per window length while their matrices repeat (a time-invariant system), re-solved warm along
+time.
 
 For a detectable system the priors' influence on x_k fades geometrically with k − i, and a window of a
 few steps closes the bracket at every k: the cost per step is flat. For a system whose data do not
@@ -37,10 +38,9 @@ from ..sets.constrained_zonotope import ConstrainedZonotope
 from ..sets.empty import EmptySet
 from .._validation import measured
 from ..trajectories.sparse_cz import window_posterior
-from .window_brackets import EMPTY, solve, windows_for
+from .window_brackets import EMPTY, Windows, solve
 
-__all__ = ["GAP_TOL", "FIRST_WINDOW", "WINDOW_FACTOR", "FIXED_WINDOW_FACTOR", "SHRINK_EVERY",
-           "filtered_hulls"]
+__all__ = ["GAP_TOL", "FIRST_WINDOW", "WINDOW_FACTOR", "SHRINK_EVERY", "filtered_hulls"]
 
 #: The bracket (certified upper end minus inner lower end) accepted, relative to the hull's widest
 #: edge (its ∞-diameter): an order below the 1e-6 that the hulls are held to. Relative to the set's
@@ -53,15 +53,9 @@ GAP_TOL = 1e-7
 #: closes, and doubles the length when neither does.
 FIRST_WINDOW = 8
 
-#: Windows are used at step k only when k ≥ the window factor × the window length; earlier steps
-#: solve the posterior's own program, which is cheaper there. With trajectory windows
-#: (`window_brackets.TrajectoryWindows`) a step's two window programs cost about as much as the own
-#: program of k ≈ 50 (4 states) to 175 (2 states, example (31)) steps at a window of 8: factor 12.
-#: The fixed windows of a time-invariant system are cheaper (example (31), T = 800, with
-#: ``SHRINK_EVERY``: 6.6–7.3 ms a step at factor 4 against 8.6–9.9 at 12, two runs side by side):
-#: factor 4. The choice depends on k alone, never on time.
-WINDOW_FACTOR = 12
-FIXED_WINDOW_FACTOR = 4
+#: Windows are used at step k only when k ≥ WINDOW_FACTOR × the window length; earlier steps solve
+#: the posterior's own program, which is cheaper there. The choice depends on k alone, never on time.
+WINDOW_FACTOR = 4
 
 #: Every SHRINK_EVERY steps a step first tries half the current window length (not below
 #: FIRST_WINDOW): a length is otherwise kept once it closed, and the first steps, whose posteriors
@@ -139,8 +133,7 @@ class _Run:
     def __init__(self, system, X0: ConvexSet, ys: np.ndarray, D: np.ndarray):
         self.system, self.ys, self.D = system, ys, D
         self.forms = tuple(S.to_constrained_zonotope() for S in (X0, system.W, system.V))
-        self.windows = windows_for(system, self.forms, D)
-        self.factor = FIXED_WINDOW_FACTOR if self.windows.fixed else WINDOW_FACTOR
+        self.windows = Windows(system, self.forms, D)
         self.settled: list[_Step | None] = []
         self.length = FIRST_WINDOW
 
@@ -157,7 +150,7 @@ class _Run:
     def _bracketed(self, k: int):
         """The step from the window of the current length, or of twice that length, whose bracket
         closes; EMPTY when an outer bound is empty; None when neither closes or no window is
-        cheaper than P_k's own program (k < the window factor × length). A length that closed is
+        cheaper than P_k's own program (k < WINDOW_FACTOR × length). A length that closed is
         kept for the next step, so the length settles at what the data need, and every
         ``SHRINK_EVERY`` steps half of it is tried first; when neither closes the next step starts
         at the longer one, so data whose brackets never close pay for O(log T) windows in a run,
@@ -166,7 +159,7 @@ class _Run:
         if k % SHRINK_EVERY == 0 and self.length >= 2 * FIRST_WINDOW:
             lengths = (self.length // 2,) + lengths
         for L in lengths:
-            if k < self.factor * L:
+            if k < WINDOW_FACTOR * L:
                 return None
             step = self._window(k, L)
             if step is not None:

@@ -3,49 +3,42 @@
 For a settled step i with certified hull O_i ⊇ P_i and maximizers conv{p_1..p_r} = I_i ⊆ P_i, the
 posterior P_k = F_{k,i}(P_i) (stability paper (7)) lies between F_{k,i}(I_i) and F_{k,i}(O_i). Its
 support along each direction is bracketed by a certified upper bound on the outer window and the
-values of the inner window's maximizers (points of F_{k,i}(I_i) ⊆ P_k). Two ways to set up the same
-two programs:
+values of the inner window's maximizers (points of F_{k,i}(I_i) ⊆ P_k).
 
-* `TrajectoryWindows`, for any system: both windows as trajectory CZs over the states i..k
-  (`trajectories.sparse_cz.window_posterior`), assembled and presolved anew at every step.
-* `FixedWindows`, for a time-invariant system (A, C, E, F constant; a known input allowed): the
-  states eliminated as in the OIT-CZ windows (`filters._window.Window`, stability paper (23)), whose
-  matrices depend on (system, k − i) alone, kept per window length and re-solved warm along time
-  (the solver policy's 'along time' purpose). The outer window's prior O_i = {c + ξ : |ξ| ≤ r}
-  enters only b, the centre and the factor bounds: certified support values from a
-  `ParametricSupport` session, with the window's rounding charges. The inner window's prior
-  x_i = m + P̃ξ_λ (P̃ = (P − m)/2, 1ᵀξ_λ = 2 − r) keeps x_i as free factors, so the points enter
-  the matrix only as the block −P̃ of n × r entries: support points from a `ParametricPoints`
-  session, checked to satisfy the program.
+Both windows are trajectory CZs over the states i..k, the states free factors about a nominal
+trajectory (`trajectories.sparse_cz`: a `WindowLayout` of the matrices, `window_data` of b, the
+centre, the bounds and the rounding slack): every row couples one step to the next, so
+the rounding charges of a row are those of one step whatever the window's length. Written with the
+outer prior O_i = {c + ξ : |ξ| ≤ r} (generators I, bounds r) and the inner prior
+I_i = Z(P̃, m, 1ᵀ, 2 − r) (P̃ = (P − m)/2), the windows of one length have the same matrices from one
+step to the next whenever the system's matrices are the same (a time-invariant system, a known input
+allowed): only b, the centre, the factor bounds, the rows' rounding slack and, in the inner window,
+the block −P̃ change. So each length keeps its layout and its two engines, re-solved
+warm along time (the solver policy's 'along time' purpose): certified support values of the outer
+window from a `ParametricSupport` session, support points of the inner one from a
+`ParametricPoints` session. When A, C, E or F vary with k every window gets its own layout and
+engines: the same programs from a cold start.
 
-Both return the same brackets up to the solvers' accuracy; `hulls_along_time` accepts a bracket only
-when it is closed to ``GAP_TOL`` of the hull's diameter, so the hulls do not depend on which built it
-(tests compare them).
+The states are kept rather than eliminated as in the OIT-CZ windows (`filters._window.Window`,
+stability paper (23)): the eliminated form's matrices are powers A^j, and their rounding bounds grow
+like |A|^j (relative 1e-8 at 8 steps, 0.1 at 16 and 1e13 at 32 on a 4-state drss system), which no
+bracket survives.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..sets import rounding
 from ..sets.constrained_zonotope import ConstrainedZonotope
+from ..sets import rounding
 from ..solvers.clarabel_lp import SolverError
 from ..solvers.parametric import ParametricPoints, ParametricSupport
-from ..trajectories.sparse_cz import window_posterior
-from ._window import Window
+from ..trajectories.sparse_cz import WindowLayout, window_data
 
-__all__ = ["EMPTY", "FixedWindows", "TrajectoryWindows", "solve", "windows_for"]
+__all__ = ["EMPTY", "Windows", "solve"]
 
 #: A bracket whose outer bound is empty: P_k is empty.
 EMPTY = object()
-
-
-def windows_for(system, forms: tuple, D: np.ndarray):
-    """`FixedWindows` for a system whose A, C, E and F do not vary, else `TrajectoryWindows`.
-    ``forms``: the CZ forms of X0, W and V; ``D``: the directions [I; −I]."""
-    if set(system.time_varying) & {"A", "C", "E", "F"}:
-        return TrajectoryWindows(system, forms, D)
-    return FixedWindows(system, D)
 
 
 def solve(S: ConstrainedZonotope, D: np.ndarray):
@@ -53,87 +46,91 @@ def solve(S: ConstrainedZonotope, D: np.ndarray):
     return S._program.support_points_and_bounds(D)
 
 
-class TrajectoryWindows:
-    """Both windows as trajectory CZs over the states i..k (any system)."""
+class Windows:
+    """The brackets of one run's windows, with each length's layout and engines kept while the
+    matrices repeat.
 
-    fixed = False
+    Parameters
+    ----------
+    system : LinearSystem
+    forms : tuple
+        The CZ forms of X0, W and V.
+    D : ndarray, shape (2n, n)
+        The directions [I; −I].
+    """
 
     def __init__(self, system, forms: tuple, D: np.ndarray):
-        self.system, self.D = system, D
+        self.system, self.D, self.n = system, D, system.n
         _, self.Zw, self.Zv = forms
+        # The windows' matrices repeat from one window of a length to the next unless A, C, E or F
+        # vary with k (a known input moves b only).
+        self.repeat = not set(system.time_varying) & {"A", "C", "E", "F"}
+        self._outer: dict[int, tuple] = {}  # length -> (layout, session)
+        self._inner: dict[int, tuple] = {}  # length -> (layout, block, session)
 
     def bracket(self, prior, ys: np.ndarray, i: int, k: int):
         """(certified upper values or None, inner values, inner maximizers), or `EMPTY`. ``prior``:
-        the settled step i (its ``outer()`` and ``inner()`` sets)."""
-        upper_values, _, upper = solve(window_posterior(self.system, prior.outer(), self.Zw, self.Zv,
-                                                           ys, i, k), self.D)
-        if np.isneginf(upper_values).any():
-            return EMPTY
-        lower, points, _ = solve(window_posterior(self.system, prior.inner(), self.Zw, self.Zv, ys,
-                                                     i, k), self.D)
-        return upper, lower, points
-
-
-class FixedWindows:
-    """Both windows on the state-eliminated matrices of a time-invariant system, kept per length."""
-
-    fixed = True
-
-    def __init__(self, system, D: np.ndarray):
-        self.system, self.D, self.n = system, D, system.n
-        self._parts: dict[int, tuple] = {}
-
-    def _part(self, length: int) -> tuple:
-        """The window of this length and the warm sessions of its outer and inner programs."""
-        part = self._parts.get(length)
-        if part is None:
-            window = Window(self.system, length, np.eye(self.n))
-            outer = ParametricSupport(window.G, window.A, self.D, window.free(0)).session()
-            part = self._parts[length] = (window, outer, _inner_engine(window, self.D).session())
-        return part
-
-    def bracket(self, prior, ys: np.ndarray, i: int, k: int):
-        """As `TrajectoryWindows.bracket`; ``prior`` gives ``upper`` (its certified support values
-        along [I; −I]) and ``points`` (its maximizers)."""
+        the settled step i (``upper``, its certified support values along [I; −I], and ``points``,
+        its maximizers)."""
         n = self.n
-        window, outer, inner = self._part(k - i)
         lo, hi = -prior.upper[n:], prior.upper[:n]  # finite: P_i is bounded
         centre = (lo + hi) / 2
         # {centre + ξ : |ξ| ≤ radius} ⊇ [lo, hi] though the centre and the differences are rounded
         radius = rounding.rounded_up(np.maximum(hi - centre, centre - lo), 1)
-        c, b, h, charges = window.charged_data(ys, k, centre, radius)
+        box = ConstrainedZonotope._trusted(np.eye(n), centre, np.zeros((0, n)), np.zeros(0), radius)
+        layout, session = self._outer_engine(box, i, k)
+        c, b, h, slack, slack_free = window_data(self.system, box, self.Zw, self.Zv, ys, i, k, layout)
         try:
-            upper = outer.values(c, b, h, **charges)
+            upper = session.values(c[-n:], b, h, slack=slack, slack_free=slack_free)
         except SolverError:  # no certified bound: the bracket stays open (the step's own program)
             upper = None
         if upper is not None and np.isneginf(upper).any():
             return EMPTY
-        # The inner window: x_i = m + ξ_x with ξ_x = P̃ξ_λ, 1ᵀξ_λ = 2 − r, P̃ = (P − m)/2 (the prior
-        # of `hulls_along_time._Step.inner`); only P̃ is in the matrix, as the block −P̃.
         P = prior.points
         m = P.mean(axis=0)
-        c, b, h = window.data(ys, k, m, np.zeros(n))
         r = P.shape[0]
-        b = np.concatenate([b, np.zeros(n), [2.0 - r]])
-        h = np.concatenate([np.full(n, np.inf), np.ones(r), h[n:]])
-        lower, points = inner.points(c, b, h, (-(P - m) / 2).T.ravel())
+        half = ((P - m) / 2).T
+        inner = ConstrainedZonotope._trusted(half, m, np.ones((1, r)), np.array([2.0 - r]), np.ones(r))
+        layout, block, session = self._inner_engine(inner, i, k)
+        c, b, h, _, _ = window_data(self.system, inner, self.Zw, self.Zv, ys, i, k, layout)
+        lower, points = session.points(c[-n:], b, h, -half.ravel())
         return upper, lower, points
 
+    def _outer_engine(self, box: ConstrainedZonotope, i: int, k: int) -> tuple:
+        kept = self._outer.get(k - i) if self.repeat else None
+        if kept is None:
+            layout = WindowLayout(self.system, box, self.Zw, self.Zv, i, k)
+            kept = self._outer[k - i] = (layout, ParametricSupport(
+                _selection(layout, self.n), layout.A, self.D, _free(layout, box)).session())
+        return kept
 
-def _inner_engine(window: Window, D: np.ndarray) -> ParametricPoints:
-    """The inner windows of one length: factors [ξ_x (n, free) | ξ_λ (r = 2n) | the window's noise
-    factors], rows [the window's rows, ξ_x in its prior columns; ξ_x − P̃ξ_λ = 0; 1ᵀξ_λ = 2 − r];
-    the block is P̃'s place (−P̃, row by row)."""
-    n = window.n
-    r = D.shape[0]
-    nc, ng = window.A.shape
-    G = np.hstack([window.G[:, :n], np.zeros((n, r)), window.G[:, n:]])
-    A = np.zeros((nc + n + 1, ng + r))
-    A[:nc, :n], A[:nc, n + r:] = window.A[:, :n], window.A[:, n:]
-    A[nc:nc + n, :n] = np.eye(n)
-    A[nc:nc + n, n:n + r] = 1.0  # placeholders for −P̃
-    A[nc + n, n:n + r] = 1.0
-    block = (nc + np.repeat(np.arange(n), r), n + np.tile(np.arange(r), n))
-    free = np.zeros(ng + r, dtype=bool)
-    free[:n] = True
-    return ParametricPoints(G, A, D, free, block)
+    def _inner_engine(self, inner: ConstrainedZonotope, i: int, k: int) -> tuple:
+        """The layout, the block of −P̃ (the n rows x_i − P̃ξ_λ = 0, the prior's r columns after the
+        states; row by row) and the session; the layout built with placeholders 1 in the block."""
+        kept = self._inner.get(k - i) if self.repeat else None
+        if kept is None:
+            n, r = self.n, inner.ng
+            placeholder = ConstrainedZonotope._trusted(-np.ones((n, r)), inner.c, inner.A, inner.b, inner.h)
+            layout = WindowLayout(self.system, placeholder, self.Zw, self.Zv, i, k)
+            first = (k - i + 1) * n
+            block = (layout.prior_row + np.repeat(np.arange(n), r), first + np.tile(np.arange(r), n))
+            kept = self._inner[k - i] = (layout, block, ParametricPoints(
+                _selection(layout, n), layout.A.toarray(), self.D, _free(layout, inner), block).session())
+        return kept
+
+
+def _selection(layout, n: int) -> np.ndarray:
+    """G of the window's posterior: x_k, the last n states."""
+    G = np.zeros((n, layout.A.shape[1]))
+    first = layout.G.shape[0] - n
+    G[:, first:first + n] = np.eye(n)
+    return G
+
+
+def _free(layout, prior: ConstrainedZonotope) -> np.ndarray:
+    """The states are the free factors (and the prior's own, if any)."""
+    free = np.zeros(layout.A.shape[1], dtype=bool)
+    states = layout.G.shape[0]
+    free[:states] = True
+    free[states:states + prior.ng] = np.isinf(prior.h)
+    return free

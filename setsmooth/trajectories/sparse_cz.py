@@ -150,11 +150,13 @@ def filtering_map(system, prior: ConvexSet, ys: Any, i: int, k: int) -> ConvexSe
 
 
 def window_posterior(system, prior: ConstrainedZonotope, Zw: ConstrainedZonotope,
-                     Zv: ConstrainedZonotope, ys: np.ndarray, i: int, k: int) -> ConstrainedZonotope:
+                     Zv: ConstrainedZonotope, ys: np.ndarray, i: int, k: int,
+                     layout: "WindowLayout | None" = None) -> ConstrainedZonotope:
     """`filtering_map` F_{k,i}(prior) for trusted arguments (a checked system whose measurements
     ``ys`` are already as measured, the CZ forms of the prior and of W and V, 0 ≤ i ≤ k ≤ T): the
-    trajectory CZ of times i..k with G selecting x_k, without projecting through a linear map."""
-    traj = _assemble(system, prior, Zw, Zv, ys, i, k)
+    trajectory CZ of times i..k with G selecting x_k, without projecting through a linear map.
+    ``layout``: a `WindowLayout` of an earlier window with the same matrices, to reuse."""
+    traj = _assemble(system, prior, Zw, Zv, ys, i, k, layout)
     n, p = system.n, traj.A.shape[1]
     first = (k - i) * n
     G = sp.csc_matrix((np.ones(n), (np.arange(n), np.arange(first, first + n))), shape=(n, p))
@@ -230,72 +232,105 @@ class _Triplets:
 
 
 def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: ConstrainedZonotope,
-              ys: np.ndarray, start: int, stop: int) -> ConstrainedZonotope:
+              ys: np.ndarray, start: int, stop: int, layout: "WindowLayout | None" = None
+              ) -> ConstrainedZonotope:
+    """The trajectory CZ over start..stop: `WindowLayout` (given, or made here) and `window_data`."""
+    if layout is None:
+        layout = WindowLayout(system, Z0, Zw, Zv, start, stop)
+    c, b, h, slack, slack_free = window_data(system, Z0, Zw, Zv, ys, start, stop, layout)
+    # The factor set is created now, so that every projection shares one.
+    return ConstrainedZonotope._trusted(layout.G, c, layout.A, b, h,
+                                        TrajectoryFactors(layout.A, b, h, slack, slack_free))
+
+
+class WindowLayout:
+    """What the trajectory CZ over start..stop takes from the matrices alone: the constraint matrix
+    A, the generators G (selecting the states) and the rounding charges of the products E G_w and
+    F G_v. The same for every window of one length when A, C, E, F do not vary and the prior's A and
+    G are the same (`window_data` gives the rest).
+
+    Columns: [states x_start..x_stop | the prior's factors | ξ_w per step | ξ_v per time]; rows: the
+    prior's rows, the noises' rows, x_start − G_0 ξ_0 = 0 (states about the nominal trajectory), the
+    dynamics, the measurements.
+    """
+
+    def __init__(self, system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: ConstrainedZonotope,
+                 start: int, stop: int):
+        n, m = system.n, system.m
+        steps = stop - start  # number of transitions
+        # Column offsets of each factor group.
+        n_states = n * (steps + 1)
+        col_x0 = n_states
+        col_w = col_x0 + Z0.ng
+        col_v = col_w + steps * Zw.ng
+        n_factors = col_v + (steps + 1) * Zv.ng
+
+        A = _Triplets()
+        row = 0
+        # Constraints of the prior's and the noises' factor sets.
+        A.put(row, col_x0, Z0.A)
+        row += Z0.nc
+        A.put_repeated(row, col_w, Zw.A, steps, Zw.nc, Zw.ng)
+        row += steps * Zw.nc
+        A.put_repeated(row, col_v, Zv.A, steps + 1, Zv.nc, Zv.ng)
+        row += (steps + 1) * Zv.nc
+        # x_start ∈ prior
+        self.prior_row = row
+        A.put(row, 0, np.eye(n))
+        A.put(row, col_x0, -Z0.G)
+        row += n
+        Gw, Gv = _dense(Zw.G), _dense(Zv.G)
+        # The matrices of every step (one array each, repeated where the system does not vary).
+        self.As = np.array([system.A_at(k) for k in range(start, stop)]).reshape(steps, n, n)
+        self.Bs = np.array([system.E_at(k) for k in range(start, stop)]).reshape(steps, n, Zw.c.size)
+        self.Ds = np.array([system.F_at(k) for k in range(start, stop + 1)]).reshape(steps + 1, m, Zv.c.size)
+        self.Cs = np.array([system.C_at(k) for k in range(start, stop + 1)]).reshape(steps + 1, m, n)
+        # dynamics: x_{j+1} − A x_j − E G_w ξ_w − E e_w = A x̄_j + E c_w + u − x̄_{j+1}
+        A.put_blocks(row, n, np.broadcast_to(np.eye(n), (steps, n, n)), n, n)
+        A.put_blocks(row, 0, -self.As, n, n)
+        A.put_blocks(row, col_w, -np.array([Bk @ Gw for Bk in self.Bs]).reshape(steps, n, Zw.ng), n, Zw.ng)
+        row += steps * n
+        # measurements
+        A.put_blocks(row, 0, self.Cs, m, n)
+        A.put_blocks(row, col_v, np.array([Dk @ Gv for Dk in self.Ds]), m, Zv.ng)
+        row += (steps + 1) * m
+        self.A = A.to_csc((row, n_factors))
+        self.G = sp.csc_matrix((np.ones(n_states), (np.arange(n_states), np.arange(n_states))),
+                               shape=(n_states, n_factors))
+        # the products' charges, once per step where the system varies
+        self.Bw = _step_charges(self.Bs, Gw, Zw, "E" in system.time_varying)
+        self.Dv = _step_charges(self.Ds, Gv, Zv, "F" in system.time_varying)
+
+
+def window_data(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: ConstrainedZonotope,
+                ys: np.ndarray, start: int, stop: int, layout: WindowLayout
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(c, b, h, slack, slack_free) of the trajectory CZ over start..stop on ``layout``: the nominal
+    trajectory from the prior's centre (the CZ's centre), the right-hand sides, the factor bounds and
+    the rows' rounding slack (`setsmooth.sets.rounding`)."""
     n, m = system.n, system.m
-    steps = stop - start  # number of transitions
-    # Column offsets of each factor group.
+    steps = stop - start
     n_states = n * (steps + 1)
-    col_x0 = n_states
-    col_w = col_x0 + Z0.ng
-    col_v = col_w + steps * Zw.ng
-    n_factors = col_v + (steps + 1) * Zv.ng
-
-    A = _Triplets()
-    rhs: list[np.ndarray] = []
-    row = 0
-    # Constraints of the prior's and the noises' factor sets.
-    A.put(row, col_x0, Z0.A)
-    rhs.append(Z0.b)
-    row += Z0.nc
-    A.put_repeated(row, col_w, Zw.A, steps, Zw.nc, Zw.ng)
-    rhs.append(np.tile(Zw.b, steps))
-    row += steps * Zw.nc
-    A.put_repeated(row, col_v, Zv.A, steps + 1, Zv.nc, Zv.ng)
-    rhs.append(np.tile(Zv.b, steps + 1))
-    row += (steps + 1) * Zv.nc
-
+    As, Bs, Cs, Ds = layout.As, layout.Bs, layout.Cs, layout.Ds
+    rhs = [Z0.b, np.tile(Zw.b, steps), np.tile(Zv.b, steps + 1), np.zeros(n), np.zeros(steps * n)]
     nominal = np.empty((steps + 1, n))  # x̄_start..x̄_stop, the CZ's centre
     nominal[0] = Z0.c
-    # The rows' rounding slack (`setsmooth.sets.rounding`): the operands' own (their rows, and their
-    # pads where they enter a row), the nominal trajectory's rounding, and the rounding of the
-    # products B G_w, D G_v and of the measurement rows' right-hand sides.
+    # The rows' rounding slack: the operands' own (their rows, and their pads where they enter a
+    # row), the nominal trajectory's rounding, and the rounding of the products B G_w, D G_v and of
+    # the measurement rows' right-hand sides.
     slack = [rounding.zeros_or(Z0.slack, Z0.nc), np.tile(rounding.zeros_or(Zw.slack, Zw.nc), steps),
              np.tile(rounding.zeros_or(Zv.slack, Zv.nc), steps + 1), rounding.zeros_or(Z0.pad, n)]
     # per unit of ‖ξ_F‖∞, where an operand's free columns were rounded (none in the estimators)
     slack_free = [rounding.zeros_or(Z0.slack_free, Z0.nc), np.tile(rounding.zeros_or(Zw.slack_free, Zw.nc), steps),
                   np.tile(rounding.zeros_or(Zv.slack_free, Zv.nc), steps + 1), rounding.zeros_or(Z0.pad_free, n)]
-    # x_start ∈ prior
-    A.put(row, 0, np.eye(n))
-    A.put(row, col_x0, -Z0.G)
-    rhs.append(np.zeros(n))
-    row += n
-    Gw, Gv = _dense(Zw.G), _dense(Zv.G)
-    # The matrices of every step (one array each, repeated where the system does not vary), the
-    # nominal trajectory and the measurement rows' right-hand sides.
-    dyn = [(system.A_at(k), system.E_at(k), system.input_term(k)) for k in range(start, stop)]
-    for j, (Ak, Bk, uk) in enumerate(dyn):
-        nominal[j + 1] = Ak @ nominal[j] + Bk @ Zw.c + uk
-    meas = [(system.F_at(k), system.C_at(k)) for k in range(start, stop + 1)]
-    b_meas = np.array([ys[start + j] - Dk @ Zv.c - Ck @ nominal[j] for j, (Dk, Ck) in enumerate(meas)])
+    us = np.array([system.input_term(k) for k in range(start, stop)]).reshape(steps, n)
+    for j in range(steps):
+        nominal[j + 1] = As[j] @ nominal[j] + Bs[j] @ Zw.c + us[j]
+    b_meas = np.array([ys[start + j] - Ds[j] @ Zv.c - Cs[j] @ nominal[j] for j in range(steps + 1)])
     b_meas = b_meas.reshape(steps + 1, m)
-    # dynamics: x_{j+1} − A x_j − E G_w ξ_w − E e_w = A x̄_j + E c_w + u − x̄_{j+1}, the nominal's
-    # error bounded as accurately as in twice the working precision (all rows in one pass below)
-    As = np.array([Ak for Ak, _, _ in dyn]).reshape(steps, n, n)
-    Bs = np.array([Bk for _, Bk, _ in dyn]).reshape(steps, n, Zw.c.size)
-    A.put_blocks(row, n, np.broadcast_to(np.eye(n), (steps, n, n)), n, n)
-    A.put_blocks(row, 0, -As, n, n)
-    A.put_blocks(row, col_w, -np.array([Bk @ Gw for Bk in Bs]).reshape(steps, n, Zw.ng), n, Zw.ng)
-    rhs.append(np.zeros(steps * n))
-    row += steps * n
-    # measurements
-    Ds = np.array([Dk for Dk, _ in meas]).reshape(steps + 1, m, Zv.c.size)
-    Cs = np.array([Ck for _, Ck in meas]).reshape(steps + 1, m, n)
-    A.put_blocks(row, 0, Cs, m, n)
-    A.put_blocks(row, col_v, np.array([Dk @ Gv for Dk in Ds]), m, Zv.ng)
     rhs.append(b_meas.reshape(-1))
-    row += (steps + 1) * m
-    # the residuals' terms, row by row in the order of `rounding.residual_bound`'s pairs
-    us = np.array([uk for _, _, uk in dyn]).reshape(steps, n)
+    # the nominal's error bounded as accurately as in twice the working precision: the residuals'
+    # terms, row by row in the order of `rounding.residual_bound`'s pairs (all rows in one pass)
     dyn_terms = (np.concatenate([As, Bs, np.ones((steps, n, 1)), -np.ones((steps, n, 1))], axis=2),
                  np.concatenate([np.broadcast_to(nominal[:-1, None, :], (steps, n, n)),
                                  np.broadcast_to(Zw.c, (steps, n, Zw.c.size)), us[:, :, None],
@@ -308,22 +343,12 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
                                   b_meas[:, :, None]], axis=2))
     errors = [rounding.row_sums_bound(X.reshape(-1, X.shape[2]), Y.reshape(-1, Y.shape[2]))
               for X, Y in (dyn_terms, meas_terms)]
-    # the products' charges, once per step where the system varies
-    Bw = _step_charges(Bs, Gw, Zw, "E" in system.time_varying)
-    Dv = _step_charges(Ds, Gv, Zv, "F" in system.time_varying)
-    slack.append(rounding.add(errors[0], Bw[0].reshape(-1)))
-    slack.append(rounding.add(errors[1], Dv[0].reshape(-1)))
-    slack_free.extend([Bw[1].reshape(-1), Dv[1].reshape(-1)])
-
-    A_matrix = A.to_csc((row, n_factors))
+    slack.append(rounding.add(errors[0], layout.Bw[0].reshape(-1)))
+    slack.append(rounding.add(errors[1], layout.Dv[0].reshape(-1)))
+    slack_free.extend([layout.Bw[1].reshape(-1), layout.Dv[1].reshape(-1)])
     b = np.concatenate(rhs)
-    slack, slack_free = np.concatenate(slack), np.concatenate(slack_free)
-    G = sp.csc_matrix((np.ones(n_states), (np.arange(n_states), np.arange(n_states))),
-                      shape=(n_states, n_factors))
     h = np.concatenate([np.full(n_states, np.inf), Z0.h, np.tile(Zw.h, steps), np.tile(Zv.h, steps + 1)])
-    # The factor set is created now, so that every projection shares one.
-    return ConstrainedZonotope._trusted(G, nominal.reshape(-1), A_matrix, b, h,
-                                        TrajectoryFactors(A_matrix, b, h, slack, slack_free))
+    return nominal.reshape(-1), b, h, np.concatenate(slack), np.concatenate(slack_free)
 
 
 def _step_charges(Ms: np.ndarray, G: np.ndarray, Z: ConstrainedZonotope, varying: bool

@@ -11,18 +11,12 @@ from setsmooth.papers.smoothing_examples import smoothing_example_31, smoothing_
 from setsmooth.reliability.random_systems import base_case, in_regime
 
 
-@pytest.fixture(autouse=True, params=["fixed", "trajectory"])
-def windows_from_the_first_steps(monkeypatch, request):
+@pytest.fixture(autouse=True)
+def windows_from_the_first_steps(monkeypatch):
     """Windows of 4 steps from k = 8 on (the default waits until they are cheaper than the
-    posterior's own program): these short runs then test the brackets, not the crossover. Every
-    test runs twice: with the windows a time-invariant system gets (`FixedWindows`) and with the
-    trajectory windows of any system."""
+    posterior's own program): these short runs then test the brackets, not the crossover."""
     monkeypatch.setattr(along, "FIRST_WINDOW", 4)
     monkeypatch.setattr(along, "WINDOW_FACTOR", 2)
-    monkeypatch.setattr(along, "FIXED_WINDOW_FACTOR", 2)
-    if request.param == "trajectory":
-        monkeypatch.setattr(along, "windows_for", brackets.TrajectoryWindows)
-    return request.param
 
 
 def _bounds(hulls):
@@ -132,10 +126,9 @@ def test_a_result_whose_sets_were_replaced_takes_each_sets_own_hull():
     assert "_along_hulls" not in posteriors.__dict__ or not posteriors._along_hulls
 
 
-def test_a_time_varying_system_gets_trajectory_windows_and_a_known_input_fixed_ones(
-        windows_from_the_first_steps):
-    """The fixed windows need constant A, C, E, F (a known input is allowed); a system whose matrices
-    vary gets the trajectory windows. Both give each posterior's own hull."""
+def test_a_known_input_and_a_time_varying_system_give_each_posteriors_own_hull():
+    """The windows' engines are kept while their matrices repeat (a known input only moves b) and
+    made anew when they differ (matrices varying with k)."""
     base, X0 = smoothing_example_31(), smoothing_example_31_x0()
     A, C = np.asarray(base.A_at(0)), np.asarray(base.C_at(0))
     E, F = np.asarray(base.E_at(0)), np.asarray(base.F_at(0))
@@ -144,28 +137,25 @@ def test_a_time_varying_system_gets_trajectory_windows_and_a_known_input_fixed_o
     with_input = ss.LinearSystem(A, np.eye(2)[:, :1], C, E=E, F=F, W=base.W, V=base.V, u=u)
     varying = ss.LinearSystem([A * (1.0 + 0.01 * np.cos(k)) for k in range(T + 1)], None, C, E=E, F=F,
                               W=base.W, V=base.V)
-    kinds = {"fixed": brackets.FixedWindows, "trajectory": brackets.TrajectoryWindows}
-    for system, default in ((with_input, kinds[windows_from_the_first_steps]),
-                            (varying, brackets.TrajectoryWindows)):
-        assert isinstance(along.windows_for(system, (None, None, None), np.eye(2)), default)
+    for system in (with_input, varying):
         xs, ys = ss.simulate(system, X0, T, np.random.default_rng(10))
         _assert_same_hulls(system, X0, ys, xs)
 
 
-def test_fixed_windows_bracket_like_trajectory_windows():
-    """The two set-ups of the same window programs: certified upper ends within 1e-9 of the width of
-    each other, both above the inner values, and the inner values equal."""
+def test_kept_engines_bracket_like_fresh_ones():
+    """A window's bracket from engines kept along the run equals the one from engines made for it
+    alone (certified upper ends and inner values within 1e-9 of the width)."""
     system, X0 = smoothing_example_31(), smoothing_example_31_x0()
     _, ys = ss.simulate(system, X0, 30, np.random.default_rng(11))
     D = np.vstack([np.eye(2), -np.eye(2)])
     run = along._Run(system, X0, ys, D)
-    for k in range(12):
+    for k in range(25):
         run.settle(k)
-    prior = run.settled[4]
-    fixed = brackets.FixedWindows(system, D).bracket(prior, ys, 4, 11)
-    trajectory = brackets.TrajectoryWindows(system, run.forms, D).bracket(prior, ys, 4, 11)
-    width = fixed[1][:2] + fixed[1][2:]
+    kept = run.windows.bracket(run.settled[16], ys, 16, 24)
+    fresh = brackets.Windows(system, run.forms, D).bracket(run.settled[16], ys, 16, 24)
+    width = kept[1][:2] + kept[1][2:]
     scale = np.concatenate([width, width])
-    assert np.all(np.abs(fixed[0] - trajectory[0]) <= 1e-9 * scale)
-    assert np.all(np.abs(fixed[1] - trajectory[1]) <= 1e-9 * scale)
-    assert np.all(fixed[0] >= fixed[1]) and np.all(trajectory[0] >= trajectory[1])
+    assert np.all(np.abs(kept[0] - fresh[0]) <= 1e-9 * scale)
+    assert np.all(np.abs(kept[1] - fresh[1]) <= 1e-9 * scale)
+    assert np.all(kept[0] >= kept[1])
+    assert len(run.windows._outer) >= 1  # the run kept engines
