@@ -5,7 +5,8 @@ One data sequence of t̄ steps at one noise level K; each filter is timed over `
 functions, as a share of the filter's profiled time):
 
   LSU-CZ   algebra (prediction (16) + generalized intersection (15)), reduction (Rescale → Eliminate
-           → Girard), vertices (enumeration), hull (Qhull: centroid, spread), Method 2 (one LP)
+           → Girard), vertices (enumeration), hull (Qhull: centroid, spread), Method 2 (closest point
+           from the hull's vertices up to 3-D, one LP beyond)
   LSUO     algebra, vertices (box ∩ strip), interval hull of the prediction
   LSUP     algebra, vertices (parallelotope ∩ strips), the parallelotope choices
 
@@ -34,7 +35,7 @@ PARTS = {
                "reduction": ("__init__.py", ("apply_methods",)),
                "vertices": ("cz_vertices.py", ("cz_vertices",)),
                "hull (Qhull)": ("cz_vertices.py", ("hull_geometry",)),
-               "Method 2 LP": ("estimates.py", ("closest_to_zonotope_center",))},
+               "Method 2": ("estimates.py", ("closest_point_of_hull", "closest_to_zonotope_center"))},
     "LSUO": {"algebra": ("algebra.py", ("generalized_intersection", "minkowski_sum", "linear_map")),
              "vertices": ("cz_vertices.py", ("cz_vertices",)),
              "prediction hull": ("_base.py", ("apply",))},
