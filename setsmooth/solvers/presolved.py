@@ -9,6 +9,7 @@ from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.sparse import _sparsetools
 
 from .. import tolerances as tol
 from .small_products import SmallProduct
@@ -36,8 +37,6 @@ class CompiledProduct:
     """
 
     def __init__(self, S, *, transpose: bool = False, absolute: bool = False):
-        from scipy.sparse import _sparsetools
-
         if absolute:
             S.sum_duplicates()  # in place, as scipy's abs(S) does before taking |data|
         fmt = S.format if not transpose else {"csr": "csc", "csc": "csr"}[S.format]
