@@ -92,7 +92,7 @@ class Windows:
         half = ((P - m) / 2).T
         inner = ConstrainedZonotope._trusted(half, m, np.ones((1, r)), np.array([2.0 - r]), np.ones(r))
         layout, block, session = self._inner_engine(inner, i, k)
-        c, b, h, _, _ = window_data(self.system, inner, self.Zw, self.Zv, ys, i, k, layout)
+        c, b, h, _, _ = window_data(self.system, inner, self.Zw, self.Zv, ys, i, k, layout, charged=False)
         lower, points = session.points(c[-n:], b, h, -half.ravel())
         return upper, lower, points
 

@@ -303,11 +303,12 @@ class WindowLayout:
 
 
 def window_data(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: ConstrainedZonotope,
-                ys: np.ndarray, start: int, stop: int, layout: WindowLayout
-                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+                ys: np.ndarray, start: int, stop: int, layout: WindowLayout, charged: bool = True
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None]:
     """(c, b, h, slack, slack_free) of the trajectory CZ over start..stop on ``layout``: the nominal
     trajectory from the prior's centre (the CZ's centre), the right-hand sides, the factor bounds and
-    the rows' rounding slack (`setsmooth.sets.rounding`)."""
+    the rows' rounding slack (`setsmooth.sets.rounding`; None for both without ``charged``: only
+    certified bounds need them)."""
     n, m = system.n, system.m
     steps = stop - start
     n_states = n * (steps + 1)
@@ -315,6 +316,16 @@ def window_data(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Co
     rhs = [Z0.b, np.tile(Zw.b, steps), np.tile(Zv.b, steps + 1), np.zeros(n), np.zeros(steps * n)]
     nominal = np.empty((steps + 1, n))  # x̄_start..x̄_stop, the CZ's centre
     nominal[0] = Z0.c
+    us = np.array([system.input_term(k) for k in range(start, stop)]).reshape(steps, n)
+    for j in range(steps):
+        nominal[j + 1] = As[j] @ nominal[j] + Bs[j] @ Zw.c + us[j]
+    b_meas = np.array([ys[start + j] - Ds[j] @ Zv.c - Cs[j] @ nominal[j] for j in range(steps + 1)])
+    b_meas = b_meas.reshape(steps + 1, m)
+    rhs.append(b_meas.reshape(-1))
+    b = np.concatenate(rhs)
+    h = np.concatenate([np.full(n_states, np.inf), Z0.h, np.tile(Zw.h, steps), np.tile(Zv.h, steps + 1)])
+    if not charged:
+        return nominal.reshape(-1), b, h, None, None
     # The rows' rounding slack: the operands' own (their rows, and their pads where they enter a
     # row), the nominal trajectory's rounding, and the rounding of the products B G_w, D G_v and of
     # the measurement rows' right-hand sides.
@@ -323,12 +334,6 @@ def window_data(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Co
     # per unit of ‖ξ_F‖∞, where an operand's free columns were rounded (none in the estimators)
     slack_free = [rounding.zeros_or(Z0.slack_free, Z0.nc), np.tile(rounding.zeros_or(Zw.slack_free, Zw.nc), steps),
                   np.tile(rounding.zeros_or(Zv.slack_free, Zv.nc), steps + 1), rounding.zeros_or(Z0.pad_free, n)]
-    us = np.array([system.input_term(k) for k in range(start, stop)]).reshape(steps, n)
-    for j in range(steps):
-        nominal[j + 1] = As[j] @ nominal[j] + Bs[j] @ Zw.c + us[j]
-    b_meas = np.array([ys[start + j] - Ds[j] @ Zv.c - Cs[j] @ nominal[j] for j in range(steps + 1)])
-    b_meas = b_meas.reshape(steps + 1, m)
-    rhs.append(b_meas.reshape(-1))
     # the nominal's error bounded as accurately as in twice the working precision: the residuals'
     # terms, row by row in the order of `rounding.residual_bound`'s pairs (all rows in one pass)
     dyn_terms = (np.concatenate([As, Bs, np.ones((steps, n, 1)), -np.ones((steps, n, 1))], axis=2),
@@ -346,8 +351,6 @@ def window_data(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Co
     slack.append(rounding.add(errors[0], layout.Bw[0].reshape(-1)))
     slack.append(rounding.add(errors[1], layout.Dv[0].reshape(-1)))
     slack_free.extend([layout.Bw[1].reshape(-1), layout.Dv[1].reshape(-1)])
-    b = np.concatenate(rhs)
-    h = np.concatenate([np.full(n_states, np.inf), Z0.h, np.tile(Zw.h, steps), np.tile(Zv.h, steps + 1)])
     return nominal.reshape(-1), b, h, np.concatenate(slack), np.concatenate(slack_free)
 
 
