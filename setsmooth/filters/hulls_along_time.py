@@ -36,9 +36,10 @@ from ..sets.base import ConvexSet
 from ..sets.box import Box
 from ..sets.constrained_zonotope import ConstrainedZonotope
 from ..sets.empty import EmptySet
+from ..sets import rounding
 from .._validation import measured
 from ..trajectories.sparse_cz import window_posterior
-from .window_brackets import EMPTY, Windows, solve
+from .window_brackets import EMPTY, Windows
 
 __all__ = ["GAP_TOL", "FIRST_WINDOW", "WINDOW_FACTOR", "SHRINK_EVERY", "filtered_hulls"]
 
@@ -77,8 +78,14 @@ class _Step:
         return Box(-values[n:], values[:n])
 
     def outer(self) -> ConstrainedZonotope:
-        """O_i: the certified hull as a CZ."""
-        return self.box(self.upper).to_constrained_zonotope()
+        """O_i = {c + ξ : |ξ| ≤ r}: the certified hull as a CZ with generators I, so that the windows
+        starting at every step share their matrices (`window_brackets`); r is rounded up so that
+        the box covers [lo, hi] though the centre and the differences are rounded."""
+        n = self.upper.size // 2
+        lo, hi = -self.upper[n:], self.upper[:n]  # finite: P_i is bounded
+        centre = (lo + hi) / 2
+        radius = rounding.rounded_up(np.maximum(hi - centre, centre - lo), 1)
+        return ConstrainedZonotope._trusted(np.eye(n), centre, np.zeros((0, n)), np.zeros(0), radius)
 
     def inner(self) -> ConstrainedZonotope:
         """I_i = conv{p_1..p_r} = {m + Σ λ_j (p_j − m) : λ ≥ 0, Σ λ_j = 1} with λ = (1 + ξ)/2: the CZ
@@ -86,7 +93,13 @@ class _Step:
         P = self.points
         m = P.mean(axis=0)
         r = P.shape[0]
-        return ConstrainedZonotope(((P - m) / 2).T, m, np.ones((1, r)), [2.0 - r])
+        return ConstrainedZonotope._trusted(((P - m) / 2).T, m, np.ones((1, r)), np.array([2.0 - r]),
+                                            np.ones(r))
+
+
+def _solve(S: ConstrainedZonotope, D: np.ndarray):
+    """(values, points, bounds or None) of the support of S along the rows of D, one set of solves."""
+    return S._program.support_points_and_bounds(D)
 
 
 def filtered_hulls(system, X0: ConvexSet, ys: np.ndarray, *, certified: bool | None = None,
@@ -185,7 +198,7 @@ class _Run:
     def _own(self, k: int) -> _Step | None:
         """Step k from P_k's own program (the trajectories 0..k)."""
         Z0, Zw, Zv = self.forms
-        values, points, upper = solve(window_posterior(self.system, Z0, Zw, Zv, self.ys, 0, k), self.D)
+        values, points, upper = _solve(window_posterior(self.system, Z0, Zw, Zv, self.ys, 0, k), self.D)
         if np.isneginf(values).any():
             return None
         return _Step(values if upper is None else upper, values, points)

@@ -30,20 +30,14 @@ from __future__ import annotations
 import numpy as np
 
 from ..sets.constrained_zonotope import ConstrainedZonotope
-from ..sets import rounding
 from ..solvers.clarabel_lp import SolverError
 from ..solvers.parametric import ParametricPoints, ParametricSupport
 from ..trajectories.sparse_cz import WindowLayout, window_data
 
-__all__ = ["EMPTY", "Windows", "solve"]
+__all__ = ["EMPTY", "Windows"]
 
 #: A bracket whose outer bound is empty: P_k is empty.
 EMPTY = object()
-
-
-def solve(S: ConstrainedZonotope, D: np.ndarray):
-    """(values, points, bounds or None) of the support of S along the rows of D, one set of solves."""
-    return S._program.support_points_and_bounds(D)
 
 
 class Windows:
@@ -70,14 +64,10 @@ class Windows:
 
     def bracket(self, prior, ys: np.ndarray, i: int, k: int):
         """(certified upper values or None, inner values, inner maximizers), or `EMPTY`. ``prior``:
-        the settled step i (``upper``, its certified support values along [I; −I], and ``points``,
-        its maximizers)."""
+        the settled step i, whose ``outer()`` is O_i = {c + ξ : |ξ| ≤ r} and ``inner()`` is
+        Z(P̃, m, 1ᵀ, 2 − r) (`hulls_along_time._Step`)."""
         n = self.n
-        lo, hi = -prior.upper[n:], prior.upper[:n]  # finite: P_i is bounded
-        centre = (lo + hi) / 2
-        # {centre + ξ : |ξ| ≤ radius} ⊇ [lo, hi] though the centre and the differences are rounded
-        radius = rounding.rounded_up(np.maximum(hi - centre, centre - lo), 1)
-        box = ConstrainedZonotope._trusted(np.eye(n), centre, np.zeros((0, n)), np.zeros(0), radius)
+        box = prior.outer()
         layout, session = self._outer_engine(box, i, k)
         c, b, h, slack, slack_free = window_data(self.system, box, self.Zw, self.Zv, ys, i, k, layout)
         try:
@@ -86,14 +76,10 @@ class Windows:
             upper = None
         if upper is not None and np.isneginf(upper).any():
             return EMPTY
-        P = prior.points
-        m = P.mean(axis=0)
-        r = P.shape[0]
-        half = ((P - m) / 2).T
-        inner = ConstrainedZonotope._trusted(half, m, np.ones((1, r)), np.array([2.0 - r]), np.ones(r))
+        inner = prior.inner()
         layout, block, session = self._inner_engine(inner, i, k)
         c, b, h, _, _ = window_data(self.system, inner, self.Zw, self.Zv, ys, i, k, layout, charged=False)
-        lower, points = session.points(c[-n:], b, h, -half.ravel())
+        lower, points = session.points(c[-n:], b, h, -inner.G.ravel())
         return upper, lower, points
 
     def _outer_engine(self, box: ConstrainedZonotope, i: int, k: int) -> tuple:

@@ -244,7 +244,8 @@ def _assemble(system, Z0: ConstrainedZonotope, Zw: ConstrainedZonotope, Zv: Cons
 
 
 class WindowLayout:
-    """What the trajectory CZ over start..stop takes from the matrices alone: the constraint matrix
+    """What the trajectory CZ over start..stop (stability paper (22)–(23) with the states kept as
+    free factors) takes from the matrices alone: the constraint matrix
     A, the generators G (selecting the states) and the rounding charges of the products E G_w and
     F G_v. The same for every window of one length when A, C, E, F do not vary and the prior's A and
     G are the same (`window_data` gives the rest).
