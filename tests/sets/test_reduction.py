@@ -262,13 +262,17 @@ def test_propagation_equals_its_first_version_bit_for_bit(seed):
     b = A @ (rng.uniform(-0.9, 0.9, ng) * np.where(np.isfinite(h), h, 3.0))
     if seed % 5 == 2:
         b = b + 10.0 * np.abs(A).sum(axis=1)               # infeasible: crossed bounds
+    _assert_propagates_like_the_reference(A, b, h)
+
+
+def _assert_propagates_like_the_reference(A, b, h):
+    """`propagate`'s bounds and crossing flag equal the row-by-row reference sweep's, bit for bit."""
     with np.errstate(invalid="ignore"):
         new = propagate(A, b, h)
     old = _reference_propagate(A, b, h)
     for x, y in zip(new[:4], old[:4]):
         assert x.tobytes() == y.tobytes()
     assert new.crossed == old[4]
-
 
 
 def _filter_like_rows(rng, nc, ng, blocks):
@@ -303,12 +307,7 @@ def test_propagation_in_batches_equals_the_row_by_row_sweep_bit_for_bit(seed):
     b = A @ xi
     if seed % 7 == 6:
         b[0] += 10.0 * np.abs(A[0]).sum()                  # infeasible: crossed bounds
-    with np.errstate(invalid="ignore"):
-        new = propagate(A, b, h)
-    old = _reference_propagate(A, b, h)
-    for x, y in zip(new[:4], old[:4]):
-        assert x.tobytes() == y.tobytes()
-    assert new.crossed == old[4]
+    _assert_propagates_like_the_reference(A, b, h)
 
 
 @pytest.mark.parametrize("seed", range(6))
