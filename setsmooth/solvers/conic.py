@@ -47,7 +47,7 @@ import scipy.sparse as sp
 from .. import tolerances as tol
 from . import clarabel_lp
 from .clarabel_lp import SolverError
-from .conic_checks import violations
+from .conic_checks import Magnitudes, violations
 from .conic_scaling import bound_sizes, groups, ruiz
 
 __all__ = ["ConicForm", "ConicSolution"]
@@ -116,6 +116,7 @@ class ConicForm:
         self.row_scale = r
         self.As = sp.csc_matrix(sp.diags(r) @ self.A @ sp.diags(c))
         self.bs = beta * r * self.b
+        self.sizes = Magnitudes.of(self.As)  # what every answer's check measures against
         #: z = col_scale · z' for the solution z' of the scaled program (q' = col_scale · q up to
         #: the positive factor β, which does not move the minimizer).
         self.col_scale = c / beta
@@ -258,7 +259,7 @@ class ConicForm:
         except _Unverified as failed:
             # The retry's scaling serves this objective only: kept, it would make later answers
             # (and the recession tests, posed in the scaled variables) depend on the query history.
-            saved = self.row_scale, self.As, self.bs, self.col_scale
+            saved = self.row_scale, self.As, self.bs, self.col_scale, self.sizes
             self._rescale_to(failed.z)
         try:
             return self._solve(q, relax)
@@ -267,7 +268,7 @@ class ConicForm:
                               f"check of {failed.what}, also after rescaling to it",
                               kind=self.kind) from None
         finally:
-            self.row_scale, self.As, self.bs, self.col_scale = saved
+            self.row_scale, self.As, self.bs, self.col_scale, self.sizes = saved
 
     def _solve(self, q: np.ndarray, relax: float, strict: bool = False) -> ConicSolution:
         qs = self.col_scale * q
@@ -277,9 +278,10 @@ class ConicForm:
             qs = qs / q_size
             Ps = None if Ps is None else Ps / q_size
         if relax == 0.0:
-            A, b, cones, n_zero = self.As, self.bs, self.cones, self.n_zero
+            A, b, cones, n_zero, sizes = self.As, self.bs, self.cones, self.n_zero, self.sizes
         else:
             (A, b, cones), n_zero = self._relaxed_data(relax, elastic=False), 0
+            sizes = Magnitudes.of(A)
         if A.shape[0] == 0 and Ps is None:
             if np.any(q):
                 return ConicSolution("unbounded", np.full(self.nz, np.nan), -np.inf)
@@ -295,7 +297,7 @@ class ConicForm:
         zs = np.asarray(sol.x)
         z = self.col_scale * zs
         if self.plain:
-            bad = violations(qs, zs, np.asarray(sol.z), A, b, n_zero,
+            bad = violations(qs, zs, np.asarray(sol.z), A, sizes, b, n_zero,
                              A.shape[0] - sum(self.soc), self.soc, Ps, strict)
             if bad:
                 raise _Unverified(z, ", ".join(bad))

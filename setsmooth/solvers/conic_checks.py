@@ -6,28 +6,48 @@ feasibility column by column and the duality gap, each against its own terms.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
+import scipy.sparse as sp
 
 from .. import tolerances as tol
 
-__all__ = ["violations"]
+__all__ = ["Magnitudes", "violations"]
 
 
-def violations(q: np.ndarray, z: np.ndarray, y: np.ndarray, A, b: np.ndarray, n_zero: int,
-               n_linear: int, soc: list[int], P=None, strict: bool = False) -> list[str]:
+@dataclass(frozen=True)
+class Magnitudes:
+    """|A| and its largest entry in every row and column: the terms `violations` measures each
+    row and column against. A function of A alone, so made once per matrix (a `conic.ConicForm`
+    keeps it with its scaled data) rather than once per answer checked."""
+
+    abs: sp.spmatrix
+    row: np.ndarray
+    col: np.ndarray
+
+    @classmethod
+    def of(cls, A) -> "Magnitudes":
+        absA = abs(A)
+        return cls(absA, np.asarray(absA.max(axis=1).todense()).ravel(),
+                   np.asarray(absA.max(axis=0).todense()).ravel())
+
+
+def violations(q: np.ndarray, z: np.ndarray, y: np.ndarray, A, sizes: Magnitudes, b: np.ndarray,
+               n_zero: int, n_linear: int, soc: list[int], P=None, strict: bool = False) -> list[str]:
     """Check the answer in the equilibrated data given to Clarabel, where every row and column
     has comparable weight: primal feasibility row by row (relative to the row's size times the
     solution's, plus its right-hand side), dual feasibility column by column, and the duality
     gap. Clarabel's own tolerances are global, so they let a row written at a much smaller
-    scale than the others go unnoticed."""
+    scale than the others go unnoticed. ``sizes`` is ``Magnitudes.of(A)``."""
     check = tol.SOLVER_CHECK_TOL
-    absA = abs(A)
+    absA = sizes.abs
     r = b - A @ z  # the slack s, which must lie in K
     # Each row against its own terms Σⱼ|A_ij z_j| + |b_i|: a row of 1e-8-sized terms must hold to
     # 1e-14, however large the other rows.
     # The floor is Clarabel's own accuracy on the equilibrated data, where the solution's
     # entries have comparable sizes: a row whose terms all vanish holds to rounding, not 0.
-    row_size = np.asarray(absA.max(axis=1).todense()).ravel()
+    row_size = sizes.row
     # (The equilibrated data have unit size, so a solution at the origin is measured against 1.)
     z_unit = max(np.abs(z).max(initial=0.0), 1.0)
     allowed = check * (absA @ np.abs(z) + np.abs(b)) + tol.SOLVER_TOL * row_size * z_unit
@@ -45,7 +65,7 @@ def violations(q: np.ndarray, z: np.ndarray, y: np.ndarray, A, b: np.ndarray, n_
     # Dual: Aᵀy + q = 0 with y ∈ K* (Clarabel keeps y in the self-dual cones K), column by column
     # against its own terms, with the same kind of floor (multipliers of inactive rows are
     # ~1e-10, not 0); then the gap qᵀz + bᵀy against the terms of both sums.
-    col_size = np.asarray(absA.max(axis=0).todense()).ravel()
+    col_size = sizes.col
     dual_allowed = check * (absA.T @ np.abs(y) + np.abs(q)) \
         + tol.SOLVER_TOL * (col_size * np.abs(y).max(initial=0.0) + np.abs(q).max(initial=0.0))
     Pz = np.zeros_like(z) if P is None else P @ z
