@@ -65,8 +65,9 @@ def settled_without_hull(S, p: np.ndarray) -> bool | None:
     closed form for it (a constrained zonotope, an H-polytope); most points are settled without it:
 
     * inside with margin 0 ⟹ inside with any margin (one program);
-    * for a CZ with bounded factors, outside with the margins of its generator box c ± Σ_j|G_ij|h_j
-      (which contains the set, so its widths bound the hull's) ⟹ outside with the hull's margins.
+    * for a CZ, outside with the margins of its generator box c ± Σ_j|G_ij|h_j, free factors at
+      h_j = β ≥ ‖ξ_F‖∞ (the box contains the set, so its widths bound the hull's) ⟹ outside with
+      the hull's margins.
 
     Only points within that bound of the boundary need the hull. Applies to sets whose membership
     program is solved in the set's own scale (CZ forms) or in closed form (H-polytopes); None for the
@@ -80,12 +81,16 @@ def settled_without_hull(S, p: np.ndarray) -> bool | None:
         if getattr(S, "_exact_membership_form", False) and S._contains(p, 0.0):
             return True
         return None
-    h = np.asarray(cz.h)
-    if not np.all(np.isfinite(h)):
+    # Free factors (the states of a trajectory CZ) enter at their rigorous bound β ≥ ‖ξ_F‖∞
+    # (`FactorConstraints.free_bound`, shared with the membership program's units), which the set's
+    # points respect: the box below still contains the set.
+    beta = cz.factors.cheap_free_bound()
+    if beta is None or not np.isfinite(beta):
         return None
+    h = np.asarray(cz.h)
     # Per coordinate, the generator box's half-width bounds the set's: the programs below run in
     # coordinates scaled by it, so a set thin along one axis is judged in that axis's units.
-    reach = np.asarray(abs(cz.G) @ h).ravel()
+    reach = np.asarray(abs(cz.G) @ np.where(np.isfinite(h), h, beta)).ravel()
     magnitude = np.maximum(np.abs(p), np.abs(cz.c) + reach)
     scale = np.maximum(reach, np.maximum(tol.MAGNITUDE_TOL * magnitude, _TINY_SCALE))
     if cz._contains_normalized(p, scale, 0.0):

@@ -144,3 +144,44 @@ def test_ellipsoid_margins_follow_its_axes(sname):
         for u, inside in (([0.5, 0.5], True), ([0.999, 0.5], True), ([0.5, 0.001], True),
                           ([1.001, 0.5], False), ([0.5, -0.001], False), ([0.9, 0.9], False)):
             assert E.contains(_point(scale, offset, u), path=path) == inside, (path, u)
+
+
+def test_cheap_verdicts_on_sets_with_free_factors_agree_with_the_hull_margins():
+    # Trajectory CZs keep the states as free factors (h = ∞): the generator box takes them at the
+    # factor set's rigorous bound β ≥ ‖ξ_F‖∞. Exact posteriors (views of one trajectory CZ) and the
+    # projections of a joint trajectory set, with points along a direction at steps in units of the
+    # hull's widths; the verdict must be the hull margins' (the generic path of `default_margins`).
+    from setsmooth.papers.rethinking_examples import (rethinking_example_30, rethinking_example_30_joint_range,
+                                                      rethinking_example_30_x0)
+    from setsmooth.sets.membership import default_margins
+
+    rng = np.random.default_rng(12)
+    system, X0 = rethinking_example_30(), rethinking_example_30_x0()
+    T = 12
+    x = X0.sample(rng, 1)[0]
+    w = system.W.sample(rng, 1)[0]
+    xs = [x]
+    for k in range(T):
+        xs.append(system.step(k, xs[-1], w))
+    ys = np.array([system.measure(k, xs[k], system.V.sample(rng, 1)[0]) for k in range(T + 1)])
+
+    def fresh():
+        classical = ss.classical_filter(system, X0, ys)
+        trajectories = ss.joint_trajectory_set(system, rethinking_example_30_joint_range(T), ys, T)
+        return [classical[4], classical[T], trajectories.project([2 * T, 2 * T + 1]),
+                trajectories.project([6, 7])]
+
+    skipped, checked = 0, 0
+    for i, Z in enumerate(fresh()):
+        assert not np.all(np.isfinite(Z.h))
+        d = rng.standard_normal(2)
+        point = Z.support_point(d)
+        width = Z.interval_hull().hi - Z.interval_hull().lo
+        for step in (-1e-3, -1e-8, 1e-8, 5e-8, 1e-3, 10.0):  # 5e-8: outside, within the margin
+            p = point + step * width * np.sign(d)
+            S = fresh()[i]
+            verdict = S.contains(p)
+            skipped += "_interval_hulls" not in S.__dict__
+            checked += 1
+            assert verdict == Z._contains(p, default_margins(Z, p)), (i, step)
+    assert skipped >= checked // 2
