@@ -48,7 +48,7 @@ from ..models.linear_system import LinearSystem
 from .classical import _first_empty
 from .steps import _check_state_set
 
-__all__ = ["joint_trajectory_set", "optimal_filter", "optimal_joint_smoother",
+__all__ = ["joint_trajectory_set", "joint_trajectory_sets", "optimal_filter", "optimal_joint_smoother",
            "augment_identical_process_noise"]
 
 
@@ -88,12 +88,48 @@ def joint_trajectory_set(system, joint_range: JointRange, ys: Any, stop: int | N
     >>> Z.dim, round(Z.support([0.0, 0.0, 1.0]), 6)   # (x_0, x_1, x_2); x_2 ≤ y_2 + 1
     (3, 1.0)
     """
+    return joint_trajectory_sets(system, joint_range, ys, [stop])[0]
+
+
+def joint_trajectory_sets(system, joint_range: JointRange, ys: Any, stops) -> list[ConvexSet]:
+    """`joint_trajectory_set` for every stop in ``stops``, from one assembly of the rows of (★).
+
+    The rows of a time l (its dynamics and its measurement, with their rounding slack) do not depend
+    on the stop, so they are computed once, up to the last stop, and the set of stop k stacks those of
+    l ≤ k: the same constrained zonotope as ``joint_trajectory_set(system, joint_range, ys, k)``, bit
+    for bit, without assembling the rows of times 0..k again for every k.
+
+    Parameters
+    ----------
+    system : LinearSystem
+    joint_range : JointRange
+    ys : array_like, shape (T'+1, m)
+    stops : sequence of int
+        The last times k, each as ``stop`` of `joint_trajectory_set` (None: the last row of ``ys``).
+
+    Returns
+    -------
+    list of ConvexSet
+        ``⟦x_{0:k} | y_{0:k}⟧`` for k in ``stops``, in their order.
+
+    Raises
+    ------
+    ValueError
+        As `joint_trajectory_set`, for any of the stops.
+
+    Examples
+    --------
+    >>> import setsmooth as ss
+    >>> from setsmooth.filters.optimal import joint_trajectory_sets
+    >>> box = ss.Box([-1.0], [1.0])
+    >>> system = ss.LinearSystem([[1.0]], None, [[1.0]], W=box, V=box)
+    >>> J = ss.JointRange.identical_process_noise(ss.Box([-5.0], [5.0]), box, box, T=2)
+    >>> [Z.dim for Z in joint_trajectory_sets(system, J, [[0.0], [0.0], [0.0]], [0, 2])]
+    [1, 3]
+    """
     system, ys = measured(system, ys)
-    ys, stop = _check(system, joint_range, ys, stop)
-    cz = joint_range.set._flat_cz
-    if cz is None:
-        return _lazy(system, joint_range, ys, stop)
-    return _assemble(system, joint_range, cz, ys, stop)
+    stops = [_check(system, joint_range, ys, stop)[1] for stop in stops]
+    return _trajectory_sets(system, joint_range, ys, stops)
 
 
 def optimal_filter(system, joint_range: JointRange, ys: Any, *, detect_empty: bool = True) -> SetEstimates:
@@ -139,10 +175,9 @@ def optimal_filter(system, joint_range: JointRange, ys: Any, *, detect_empty: bo
     system, ys = measured(system, ys)
     _check(system, joint_range, ys, None)
     n = system.n
-    posteriors = []
-    for k in range(ys.shape[0]):
-        trajectories = joint_trajectory_set(system, joint_range, ys, k)
-        posteriors.append(trajectories.project(range(k * n, (k + 1) * n)))
+    steps = range(ys.shape[0])
+    posteriors = [trajectories.project(range(k * n, (k + 1) * n))
+                  for k, trajectories in zip(steps, joint_trajectory_sets(system, joint_range, ys, steps))]
     if detect_empty:
         first = _first_empty(posteriors)
         posteriors[first:] = [EmptySet(n) for _ in range(first, len(posteriors))]
@@ -270,87 +305,138 @@ def _lazy(system, joint_range: JointRange, ys: np.ndarray, stop: int) -> ConvexS
     return consistent.project(range(n_states))
 
 
-def _assemble(system, joint_range: JointRange, cz: ConstrainedZonotope, ys: np.ndarray,
-              stop: int) -> ConstrainedZonotope:
-    n = system.n
-    n_states = n * (stop + 1)
-    G_J = sp.csr_matrix(cz.G)
-    if not G_J.has_canonical_format:  # duplicate entries: summed once, for the rows and their charges alike
-        G_J = G_J.copy()
-        G_J.sum_duplicates()
-    c_J = cz.c
-    # Nominal trajectory x̄ (noises at the centre of J): the centre of the trajectory CZ.
-    nominal = np.empty((stop + 1, n))
-    nominal[0] = c_J[list(joint_range.x0_dims())]
-    for l in range(stop):
-        nominal[l + 1] = (system.A_at(l) @ nominal[l] + system.E_at(l) @ c_J[list(joint_range.w_dims(l))]
-                          + system.input_term(l))
+def _trajectory_sets(system, joint_range: JointRange, ys: np.ndarray, stops) -> list[ConvexSet]:
+    """⟦x_{0:k} | y_{0:k}⟧ (★) for every k in ``stops``. The rows of a time l do not depend on the
+    stop, so when J flattens to a CZ they are computed once, up to the last stop, and each set
+    takes those of l ≤ k (`_JointRows`): the same CZ as assembled for k alone, bit for bit."""
+    cz = joint_range.set._flat_cz
+    if cz is None:
+        return [_lazy(system, joint_range, ys, k) for k in stops]
+    rows = _JointRows(system, joint_range, cz, ys, max(stops, default=0))
+    return [rows.trajectories(k) for k in stops]
 
-    # The rows of (★) below J's own, [state part | η part], as triplets of their nonzeros.
-    entries: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
 
-    def put(block: np.ndarray, row: int, column: int) -> None:
-        r, c = np.nonzero(block)
-        entries.append((r + row, c + column, block[r, c]))
+class _JointRows:
+    """The rows of (★) for the times 0..last, one block per row group of the paper's equations,
+    each with its right-hand side and rounding slack (`setsmooth.sets.rounding`); `trajectories`
+    stacks the blocks of the times 0..k into the trajectory CZ of stop k.
 
-    # The rows' rounding slack (`setsmooth.sets.rounding`, as in `trajectories.sparse_cz._assemble`): J's own
-    # charges where its coordinates enter a row, the nominal trajectory's rounding, and that of the
-    # products B·G_J, D·G_J and of the measurement rows' right-hand sides.
-    def charge(M, dims, G_dims):
-        pad = None if cz.pad is None else cz.pad[dims]
-        pad_free = None if cz.pad_free is None else cz.pad_free[dims]
-        bounded, free = rounding.linear_image(M, G_dims, np.zeros(len(dims)), cz.h, pad, pad_free)
-        zeros = np.zeros(M.shape[0])
-        return (zeros if bounded is None else bounded), (zeros if free is None else free)
+    Blocks, in the CZ's row order: x_0's rows, the dynamics of l = 0..last−1, the measurements of
+    l = 0..last. A block's entries are kept as (rows within the block, state columns, values) and
+    (rows, η columns, values): the state columns of time l are l·n.. whatever the stop, the η
+    columns follow the n(k+1) state columns of stop k."""
 
-    x0 = list(joint_range.x0_dims())
-    slack = [rounding.zeros_or(cz.slack, cz.nc), rounding.zeros_or(None if cz.pad is None else cz.pad[x0], n)]
-    slack_free = [rounding.zeros_or(cz.slack_free, cz.nc),
-                  rounding.zeros_or(None if cz.pad_free is None else cz.pad_free[x0], n)]
-    put(np.eye(n), 0, 0)
-    put(-G_J[x0].toarray(), 0, n_states)
-    rhs, residuals, charges = [np.zeros(n)], [], []
-    for l in range(stop):
-        A_l, B_l, w = system.A_at(l), system.E_at(l), list(joint_range.w_dims(l))
-        G_w = G_J[w]
-        row = n * (l + 1)
-        put(np.eye(n), row, row)
-        put(-np.asarray(A_l, dtype=float), row, row - n)
-        put(-_sparse_product(B_l, G_w.toarray()), row, n_states)
-        rhs.append(np.zeros(n))
-        residuals.append([(A_l, nominal[l]), (B_l, c_J[w]), (np.ones(n), system.input_term(l)),
-                          (-np.ones(n), nominal[l + 1])])
-        charges.append(charge(B_l, w, G_w))
-    row = n_states
-    for l in range(stop + 1):
-        C_l, D_l, v = system.C_at(l), system.F_at(l), list(joint_range.v_dims(l))
-        G_v = G_J[v]
-        put(np.asarray(C_l, dtype=float), row, l * n)
-        put(_sparse_product(D_l, G_v.toarray()), row, n_states)
-        row += C_l.shape[0]
-        rhs.append(ys[l] - D_l @ c_J[v] - C_l @ nominal[l])
-        m = C_l.shape[0]
-        residuals.append([(np.ones(m), ys[l]), (-D_l, c_J[v]), (-C_l, nominal[l]), (-np.ones(m), rhs[-1])])
-        charges.append(charge(D_l, v, G_v))
-    # One Dot2 pass per number of terms: bit for bit the bounds of the rows one by one.
-    for error, (bounded, free) in zip(rounding.residual_bounds(residuals), charges):
-        slack.append(rounding.add(error, bounded))
-        slack_free.append(free)
-    r, c, values = (np.concatenate(parts) for parts in zip(*entries))
-    rows = sp.csr_matrix((values, (r, c)), shape=(row, n_states + cz.ng))
-    A = sp.vstack([
-        sp.hstack([sp.csr_matrix((cz.nc, n_states)), sp.csr_matrix(cz.A)]),
-        rows,
-    ]).tocsc()
-    A.eliminate_zeros()
-    b = np.concatenate([cz.b, *rhs])
-    G = sp.hstack([sp.identity(n_states, format="csc"), sp.csc_matrix((n_states, cz.ng))]).tocsc()
-    h = np.concatenate([np.full(n_states, np.inf), cz.h])
-    trajectories = ConstrainedZonotope._trusted(G, nominal.reshape(-1), A, b, h,
-                                                slack=np.concatenate(slack),
-                                                slack_free=np.concatenate(slack_free))
-    trajectories.factors  # created now, so that every projection shares one factor set
-    return trajectories
+    def __init__(self, system, joint_range: JointRange, cz: ConstrainedZonotope, ys: np.ndarray, last: int):
+        n = system.n
+        self.n = n
+        G_J = sp.csr_matrix(cz.G)
+        if not G_J.has_canonical_format:  # duplicate entries: summed once, for the rows and their charges alike
+            G_J = G_J.copy()
+            G_J.sum_duplicates()
+        c_J = cz.c
+        # Nominal trajectory x̄ (noises at the centre of J): the centre of the trajectory CZ.
+        nominal = np.empty((last + 1, n))
+        nominal[0] = c_J[list(joint_range.x0_dims())]
+        for l in range(last):
+            nominal[l + 1] = (system.A_at(l) @ nominal[l] + system.E_at(l) @ c_J[list(joint_range.w_dims(l))]
+                              + system.input_term(l))
+        self.nominal = nominal
+
+        def entries(block: np.ndarray, column: int):
+            r, c = np.nonzero(block)
+            return r, c + column, block[r, c]
+
+        # The rows' rounding slack (as in `trajectories.sparse_cz._assemble`): J's own charges where its
+        # coordinates enter a row, the nominal trajectory's rounding, and that of the products B·G_J,
+        # D·G_J and of the measurement rows' right-hand sides.
+        def charge(M, dims, G_dims):
+            pad = None if cz.pad is None else cz.pad[dims]
+            pad_free = None if cz.pad_free is None else cz.pad_free[dims]
+            bounded, free = rounding.linear_image(M, G_dims, np.zeros(len(dims)), cz.h, pad, pad_free)
+            zeros = np.zeros(M.shape[0])
+            return (zeros if bounded is None else bounded), (zeros if free is None else free)
+
+        x0 = list(joint_range.x0_dims())
+        # Each block: (state entries, η entries, rhs, slack, slack_free); slack of the dynamics and
+        # measurement blocks added below.
+        blocks = [[entries(np.eye(n), 0), entries(-G_J[x0].toarray(), 0), np.zeros(n),
+                   rounding.zeros_or(None if cz.pad is None else cz.pad[x0], n),
+                   rounding.zeros_or(None if cz.pad_free is None else cz.pad_free[x0], n)]]
+        residuals, charges = [], []
+        for l in range(last):
+            A_l, B_l, w = system.A_at(l), system.E_at(l), list(joint_range.w_dims(l))
+            G_w = G_J[w]
+            states = np.hstack([-np.asarray(A_l, dtype=float), np.eye(n)])   # x_l, x_{l+1}
+            blocks.append([entries(states, n * l), entries(-_sparse_product(B_l, G_w.toarray()), 0),
+                           np.zeros(n)])
+            residuals.append([(A_l, nominal[l]), (B_l, c_J[w]), (np.ones(n), system.input_term(l)),
+                              (-np.ones(n), nominal[l + 1])])
+            charges.append(charge(B_l, w, G_w))
+        for l in range(last + 1):
+            C_l, D_l, v = system.C_at(l), system.F_at(l), list(joint_range.v_dims(l))
+            G_v = G_J[v]
+            rhs = ys[l] - D_l @ c_J[v] - C_l @ nominal[l]
+            blocks.append([entries(np.asarray(C_l, dtype=float), n * l),
+                           entries(_sparse_product(D_l, G_v.toarray()), 0), rhs])
+            m = C_l.shape[0]
+            residuals.append([(np.ones(m), ys[l]), (-D_l, c_J[v]), (-C_l, nominal[l]), (-np.ones(m), rhs)])
+            charges.append(charge(D_l, v, G_v))
+        # One Dot2 pass per number of terms: bit for bit the bounds of the rows one by one.
+        for block, error, (bounded, free) in zip(blocks[1:], rounding.residual_bounds(residuals), charges):
+            block += [rounding.add(error, bounded), free]
+        # Two runs of blocks, x_0 and the dynamics, then the measurements: the stop k takes a prefix of
+        # each. Their entries as one array per run (rows from the run's start, η columns from 0),
+        # with the entry count, row count and length of b and slack up to every block.
+        self.last, self.nc, self.ng = last, cz.nc, cz.ng
+        self.runs = [self._run(blocks[:1 + last]), self._run(blocks[1 + last:])]
+        self.J = sp.coo_matrix(cz.A)
+        self.h_J = cz.h
+        self.J_rows = (cz.b, rounding.zeros_or(cz.slack, cz.nc), rounding.zeros_or(cz.slack_free, cz.nc))
+
+    @staticmethod
+    def _run(blocks: list) -> dict:
+        sizes = np.array([block[2].size for block in blocks])
+        starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+        parts = [(r + start, c, v, np.full(r.size, eta))
+                 for block, start in zip(blocks, starts)
+                 for eta, (r, c, v) in enumerate(block[:2])]
+        r, c, v, eta = (np.concatenate(part) for part in zip(*parts))
+        return {"r": r, "c": c, "v": v, "eta": eta.astype(bool),
+                "entries": np.cumsum([sum(block[i][0].size for i in range(2)) for block in blocks]),
+                "rows": np.cumsum(sizes),
+                "b": np.concatenate([block[2] for block in blocks]),
+                "slack": np.concatenate([block[3] for block in blocks]),
+                "slack_free": np.concatenate([block[4] for block in blocks])}
+
+    def trajectories(self, k: int) -> ConstrainedZonotope:
+        """The trajectory CZ of (★) with stop = k ≤ last: J's own rows, then x_0's, the dynamics l < k
+        and the measurements l ≤ k."""
+        n = self.n
+        n_states = n * (k + 1)
+        head, tail = self.runs
+        # the blocks of stop k: 1 + k of the first run (x_0, dynamics), k + 1 of the second
+        cut = [(run, run["entries"][k], run["rows"][k]) for run in (head, tail)]
+        row, r, c, v = self.nc, [self.J.row], [self.J.col + n_states], [self.J.data]
+        for run, entries, rows in cut:
+            r.append(run["r"][:entries] + row)
+            c.append(run["c"][:entries] + n_states * run["eta"][:entries])
+            v.append(run["v"][:entries])
+            row += rows
+        A = sp.csc_matrix((np.concatenate(v), (np.concatenate(r), np.concatenate(c))),
+                          shape=(row, n_states + self.ng))
+        A.eliminate_zeros()
+
+        def stacked(key: str, J_part: np.ndarray) -> np.ndarray:
+            return np.concatenate([J_part, *(run[key][:rows] for run, _, rows in cut)])
+
+        b, slack, slack_free = (stacked(key, J_part) for key, J_part in zip(("b", "slack", "slack_free"),
+                                                                            self.J_rows))
+        G = sp.hstack([sp.identity(n_states, format="csc"), sp.csc_matrix((n_states, self.ng))]).tocsc()
+        h = np.concatenate([np.full(n_states, np.inf), self.h_J])
+        trajectories = ConstrainedZonotope._trusted(G, self.nominal[:k + 1].reshape(-1), A, b, h,
+                                                    slack=slack, slack_free=slack_free)
+        trajectories.factors  # created now, so that every projection shares one factor set
+        return trajectories
 
 
 def _sparse_product(M, X: np.ndarray) -> np.ndarray:

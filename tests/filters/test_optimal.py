@@ -308,3 +308,49 @@ def test_the_trajectory_rows_are_scipy_s_sparse_products_bit_for_bit():
         sparse = (sp.csr_matrix(M) @ sp.csr_matrix(X)).toarray()
         dense = _sparse_product(M, X)
         assert np.array_equal(dense, sparse, equal_nan=True)
+
+
+def _same_arrays(a, b) -> bool:
+    """Bit for bit, -0.0 included; sparse matrices by their CSC arrays; None (no slack) only as None."""
+    import scipy.sparse as sp
+
+    if a is None or b is None:
+        return a is b
+    if sp.issparse(a) or sp.issparse(b):
+        a, b = sp.csc_matrix(a), sp.csc_matrix(b)
+        return a.shape == b.shape and all(np.array_equal(x, y) and x.dtype == y.dtype for x, y in
+                                          ((a.indptr, b.indptr), (a.indices, b.indices), (a.data, b.data)))
+    return np.array_equal(a, b) and np.array_equal(np.signbit(a), np.signbit(b))
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_trajectory_sets_of_many_stops_are_those_assembled_for_each_stop_bit_for_bit(seed):
+    # joint_trajectory_sets computes the rows of times 0..T once and gives stop k the prefix of them;
+    # assembled for stop k alone, the trajectory CZ must be the same, rounding slack included. A
+    # time-varying system with an input and related noises (random_related_system's relations:
+    # identical, v_k = α w_{k−1}, half-spaces) so that every block differs from the next.
+    from setsmooth.filters.optimal import joint_trajectory_sets
+
+    rng = np.random.default_rng(300 + seed)
+    base, _, joint, _, ys = random_related_system(rng)
+    T = ys.shape[0] - 1
+    As = [base.A_at(0) * rng.uniform(0.9, 1.1, (2, 2)) for _ in range(T)]
+    Cs = [base.C_at(0) * rng.uniform(0.5, 2.0) for _ in range(T + 1)]
+    system = ss.LinearSystem(As, np.eye(2), Cs, E=base.E_at(0), W=base.W, V=base.V,
+                             u=rng.standard_normal((T + 1, 2)))
+    ys = ys + rng.standard_normal(ys.shape)
+    stops = [T, 0, 2, T - 1]
+    many = joint_trajectory_sets(system, joint, ys, stops)
+    for k, Z in zip(stops, many):
+        alone = ss.joint_trajectory_set(system, joint, ys, k)
+        assert Z.dim == alone.dim == 2 * (k + 1)
+        for name in ("G", "c", "A", "b", "h"):
+            assert _same_arrays(getattr(Z, name), getattr(alone, name)), (k, name)
+        for name in ("slack", "slack_free"):
+            assert _same_arrays(getattr(Z.factors, name), getattr(alone.factors, name)), (k, name)
+    # and the filter's posteriors are the projections of those sets
+    posteriors = ss.optimal_filter(system, joint, ys, detect_empty=False)
+    for k in range(T + 1):
+        alone = ss.joint_trajectory_set(system, joint, ys, k).project([2 * k, 2 * k + 1])
+        assert _same_arrays(posteriors[k].G, alone.G) and _same_arrays(posteriors[k].A, alone.A)
+        assert _same_arrays(posteriors[k].b, alone.b) and _same_arrays(posteriors[k].c, alone.c)
