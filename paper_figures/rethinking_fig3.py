@@ -17,6 +17,7 @@ import numpy as np
 
 import setsmooth as ss
 from setsmooth import montecarlo
+from setsmooth.filters.optimal import joint_trajectory_sets
 from setsmooth.sets.vertices_2d import boundary_walk, support_bound_2d
 from setsmooth.papers.rethinking_examples import (rethinking_example_30, rethinking_example_30_joint_range,
                                                   rethinking_example_30_x0)
@@ -50,10 +51,11 @@ def trial(rng: np.random.Generator) -> dict:
     system, X0 = rethinking_example_30(), rethinking_example_30_x0()
     xs, ys = simulate(rng, T)
     classical = ss.classical_filter(system, X0, ys)
-    joint = rethinking_example_30_joint_range(T)
+    # The trajectory sets of the three stops from one assembly of the rows of times 0..T.
+    trajectories = joint_trajectory_sets(system, rethinking_example_30_joint_range(T), ys, ex.FIG3_STEPS)
     result = {"x": xs[list(ex.FIG3_STEPS)]}
-    for k in ex.FIG3_STEPS:
-        optimal = ss.joint_trajectory_set(system, joint, ys, k).project([2 * k, 2 * k + 1])
+    for k, Z in zip(ex.FIG3_STEPS, trajectories):
+        optimal = Z.project([2 * k, 2 * k + 1])
         result[f"classical_{k}"] = polygon(classical[k])
         result[f"optimal_{k}"], normals, values = boundary_walk(optimal)
         result[f"inside_{k}"] = [bool(classical[k].contains(xs[k])), bool(optimal.contains(xs[k]))]
