@@ -116,10 +116,18 @@ class ConicForm:
         self.row_scale = r
         self.As = sp.csc_matrix(sp.diags(r) @ self.A @ sp.diags(c))
         self.bs = beta * r * self.b
-        self.sizes = Magnitudes.of(self.As)  # what every answer's check measures against
+        self._sizes: Magnitudes | None = None  # made at the first answer checked (`sizes`)
         #: z = col_scale · z' for the solution z' of the scaled program (q' = col_scale · q up to
         #: the positive factor β, which does not move the minimizer).
         self.col_scale = c / beta
+
+    @property
+    def sizes(self) -> Magnitudes:
+        """`conic_checks.Magnitudes` of the scaled matrix: what every answer's check measures
+        against, made once per scaling."""
+        if self._sizes is None:
+            self._sizes = Magnitudes.of(self.As)
+        return self._sizes
 
     # -- scaling -------------------------------------------------------------------------------------
     def _groups(self) -> np.ndarray:
@@ -259,7 +267,7 @@ class ConicForm:
         except _Unverified as failed:
             # The retry's scaling serves this objective only: kept, it would make later answers
             # (and the recession tests, posed in the scaled variables) depend on the query history.
-            saved = self.row_scale, self.As, self.bs, self.col_scale, self.sizes
+            saved = self.row_scale, self.As, self.bs, self.col_scale, self._sizes
             self._rescale_to(failed.z)
         try:
             return self._solve(q, relax)
@@ -268,7 +276,7 @@ class ConicForm:
                               f"check of {failed.what}, also after rescaling to it",
                               kind=self.kind) from None
         finally:
-            self.row_scale, self.As, self.bs, self.col_scale, self.sizes = saved
+            self.row_scale, self.As, self.bs, self.col_scale, self._sizes = saved
 
     def _solve(self, q: np.ndarray, relax: float, strict: bool = False) -> ConicSolution:
         qs = self.col_scale * q
@@ -278,10 +286,9 @@ class ConicForm:
             qs = qs / q_size
             Ps = None if Ps is None else Ps / q_size
         if relax == 0.0:
-            A, b, cones, n_zero, sizes = self.As, self.bs, self.cones, self.n_zero, self.sizes
+            A, b, cones, n_zero = self.As, self.bs, self.cones, self.n_zero
         else:
             (A, b, cones), n_zero = self._relaxed_data(relax, elastic=False), 0
-            sizes = Magnitudes.of(A)
         if A.shape[0] == 0 and Ps is None:
             if np.any(q):
                 return ConicSolution("unbounded", np.full(self.nz, np.nan), -np.inf)
@@ -297,6 +304,7 @@ class ConicForm:
         zs = np.asarray(sol.x)
         z = self.col_scale * zs
         if self.plain:
+            sizes = self.sizes if relax == 0.0 else Magnitudes.of(A)
             bad = violations(qs, zs, np.asarray(sol.z), A, sizes, b, n_zero,
                              A.shape[0] - sum(self.soc), self.soc, Ps, strict)
             if bad:
