@@ -329,7 +329,8 @@ class ConvexSet(AlgebraHooks, ExtensionPoints, SetRelations, ABC):
 
         ``method='auto'`` samples exactly from the simplices of the vertex hull when the set flattens
         to a small low-dimensional CZ, and by hit-and-run otherwise (closed-form chords for an
-        H-polytope, one program per move for other sets); 'exact', 'hit_and_run' and 'rejection'
+        H-polytope, one program per move for other sets, re-solved along the walk where the set has a
+        constrained-zonotope form); 'exact', 'hit_and_run' and 'rejection'
         force one (`setsmooth.sets.sampling.uniform_sample`). Representations with a direct sampler
         (boxes, ellipsoids) override it.
         """

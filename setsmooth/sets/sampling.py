@@ -9,8 +9,11 @@
 * **hit-and-run** — otherwise: a Markov chain whose every move picks a random direction d and a point
   uniform on the chord {x + t d} ∩ S. The uniform distribution on S is its stationary law (Smith
   1984), so every proposal is accepted; the chord is closed-form for an `HPolytope` (no program at
-  all) and one two-direction program on the 1-D set {t : x + t d ∈ S} otherwise. The draws are
-  approximately uniform: after ``burn_in`` moves, one draw every ``thin`` moves.
+  all); for a set with a constrained-zonotope form it is max and min of t over
+  {Gξ − t d = x − c, Aξ = b, |ξ| ≤ h}, one program whose matrix changes from move to move only in
+  the column −d, re-solved from the last move's bases (`_CZChords`); for any other set it is the
+  two-direction program on the 1-D set {t : x + t d ∈ S}. The draws are approximately uniform: after
+  ``burn_in`` moves, one draw every ``thin`` moves.
 * **rejection** (on request; `rejection_sample`) — proposals uniform on the interval hull, accepted by
   one membership program each: exactly uniform, but its cost grows with how thin S is in its hull.
 
@@ -29,6 +32,7 @@ from scipy.spatial import QhullError
 
 from .. import tolerances as tol
 from .._validation import check_count, check_rng
+from ..solvers.parametric import ParametricPoints
 from .cz_vertices import cz_vertices, hull_geometry
 from .hpolytope import HPolytope
 
@@ -215,7 +219,46 @@ def _chord_function(S):
             return 0.0, 0.0
         return float(line.lo[0]), float(line.hi[0])
 
-    return program_chord
+    cz = S._flat_cz
+    return program_chord if cz is None else _CZChords(cz, program_chord)
+
+
+class _CZChords:
+    """Chords of Z = Z(G, c, A, b, h): t_hi = max t and t_lo = min t over
+
+        Gξ − t d = x − c,  Aξ = b,  |ξ| ≤ h  (t free),
+
+    one program whose matrix changes from move to move only in the column −d and whose right-hand
+    side only in x − c: a `ParametricPoints` session (the solver policy's 'along time' backends),
+    each end re-solved from its last basis. The ends are the solver's values at points checked
+    against the program, as the interval hull of ``program_chord`` gives them; a move the session
+    leaves without a checked end (x left Z by rounding, an unsettled solve) is ``program_chord``'s.
+    """
+
+    def __init__(self, cz, program_chord):
+        G, A = _dense(cz.G), _dense(cz.A)
+        n, ng = G.shape
+        self.n, self.c, self.b = n, np.asarray(cz.c), np.asarray(cz.b)
+        self.h = np.append(cz.h, np.inf)
+        column = np.concatenate([np.ones(n), np.zeros(A.shape[0])])  # −d's place, stored entries
+        matrix = np.hstack([np.vstack([G, A]), column[:, None]])
+        t_only = np.zeros((1, ng + 1))
+        t_only[0, ng] = 1.0
+        engine = ParametricPoints(t_only, matrix, np.array([[1.0], [-1.0]]), np.isinf(self.h),
+                                  (np.arange(n), np.full(n, ng)))
+        self.session = engine.session()
+        self.fallback = program_chord
+
+    def __call__(self, x: np.ndarray, d: np.ndarray) -> tuple[float, float]:
+        rhs = np.concatenate([x - self.c, self.b])
+        values, _ = self.session.points(np.zeros(1), rhs, self.h, -d)
+        if np.isnan(values).any():
+            return self.fallback(x, d)
+        return float(-values[1]), float(values[0])
+
+
+def _dense(M) -> np.ndarray:
+    return M.toarray() if sp.issparse(M) else np.asarray(M, dtype=float)
 
 
 def rejection_sample(S, rng: np.random.Generator, size: int = 1, max_tries: int = 200_000) -> np.ndarray:

@@ -12,7 +12,8 @@ presolved or rebuilt per step.
 
 `ParametricPoints` does the same for support points (values at checked points, not bounds) of a
 sequence whose matrix also changes in a declared block of entries: the inner windows of the exact
-filter's hulls along time (`setsmooth.filters.window_brackets`).
+filter's hulls along time (`setsmooth.filters.window_brackets`) and the chords of hit-and-run on a
+constrained zonotope (`setsmooth.sets.sampling`), whose direction is a column of the matrix.
 
 The warm bases are state of one run, held by a `ParametricSupport.session` that the run makes and
 drops (the OIT-CZ loop makes one per window structure), so a run's answers are a function of its own

@@ -29,7 +29,8 @@ One purpose concerns a sequence of programs rather than one:
 * 'along time': programs over one constraint matrix whose b and factor bounds change from one to
   the next, the same directions asked of each (the OIT-CZ windows, `parametric.ParametricSupport`),
   and those where a declared block of the matrix's entries changes too (the inner windows of the
-  filter's hulls along time, `parametric.ParametricPoints`).
+  filter's hulls along time and the chords of hit-and-run on a constrained zonotope,
+  `parametric.ParametricPoints`).
   The sequence backends (`backends.SEQUENCE_BACKENDS`) keep state along it: HiGHS's dual simplex
   method from each direction's last optimal basis. A direction they leave unsettled, or whose
   certificate fails, goes to the set's own verified support ('bracketed', then 'escalated').

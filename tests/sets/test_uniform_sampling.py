@@ -8,7 +8,9 @@ import numpy as np
 import pytest
 
 import setsmooth as ss
-from setsmooth.sets.sampling import exact_geometry, hit_and_run, uniform_sample
+import scipy.sparse as sp
+
+from setsmooth.sets.sampling import _chord_function, _CZChords, exact_geometry, hit_and_run, uniform_sample
 from setsmooth.sets.cz_vertices import cz_vertices, hull_geometry, vertex_candidate_count
 
 # A thin asymmetric quadrilateral as a CZ: a zonotope cut by one constraint.
@@ -105,14 +107,58 @@ def test_hit_and_run_on_an_h_polytope_matches_area_fractions_without_any_chord_p
     np.testing.assert_allclose(x.mean(axis=0), [1 / 3, 1 / 3], atol=0.03)
 
 
-def test_hit_and_run_with_program_chords_stays_inside_and_is_roughly_uniform():
-    # A set without an H-representation: every chord is one small program (short chain, loose bound).
+def test_hit_and_run_with_kept_cz_chords_stays_inside_and_is_roughly_uniform():
+    # A set without an H-representation: every chord is one program re-solved along the walk.
     fat = ss.ConstrainedZonotope([[1.0, 0.0, 0.5], [0.0, 1.0, 0.5]], [0.0, 0.0], A=[[0.5, 0.5, 1.0]], b=[0.2])
     x = hit_and_run(fat, np.random.default_rng(5), 150, thin=2, burn_in=60)
     assert all(fat.contains(p) for p in x[::15])
     part = fat.intersect_preimage([[1.0, 0.0]], ss.Box([-5.0], [0.0]))
     p = part.area() / fat.area()
     assert np.mean(x[:, 0] <= 0.0) == pytest.approx(p, abs=0.12)
+
+
+def _chords_compared(Z, rng, moves):
+    """Every move's chord from the kept CZ chords against the generic 1-D program's."""
+    kept = _chord_function(Z)
+    assert isinstance(kept, _CZChords)
+    x = Z.support_point(np.ones(Z.dim)) * 0.5 + Z.support_point(-np.ones(Z.dim)) * 0.5
+    for _ in range(moves):
+        d = rng.standard_normal(Z.dim)
+        lo, hi = kept(x, d)
+        ref_lo, ref_hi = kept.fallback(x, d)
+        scale = 1.0 + abs(ref_lo) + abs(ref_hi)
+        assert abs(lo - ref_lo) <= 1e-7 * scale and abs(hi - ref_hi) <= 1e-7 * scale
+        x = x + rng.uniform(lo, hi) * d
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_kept_cz_chords_equal_the_generic_program_chords(seed):
+    rng = np.random.default_rng(seed)
+    n, ng, nc = 4, 9, 2
+    G, A = rng.standard_normal((n, ng)), 0.3 * rng.standard_normal((nc, ng))
+    h = np.ones(ng)
+    Z = ss.ConstrainedZonotope(G, rng.standard_normal(n), A=A, b=np.zeros(nc), h=h)
+    _chords_compared(Z, rng, 40)
+    # A free factor pinned by a constraint, and sparse data at a large offset.
+    h_free = h.copy()
+    h_free[0] = np.inf
+    A_free = A.copy()
+    A_free[0, 0] = 1.0
+    _chords_compared(ss.ConstrainedZonotope(G, np.zeros(n), A=A_free, b=np.zeros(nc), h=h_free), rng, 20)
+    _chords_compared(ss.ConstrainedZonotope(sp.csc_matrix(G), 1e4 * np.ones(n), A=sp.csc_matrix(A),
+                                            b=np.zeros(nc)), rng, 20)
+
+
+def test_a_cz_chord_from_a_point_outside_is_the_generic_programs_stay():
+    chord = _chord_function(PENTAGON)
+    assert chord(np.array([50.0, 50.0]), np.array([1.0, 0.3])) == (0.0, 0.0)
+
+
+def test_hit_and_run_on_a_set_without_a_cz_form_uses_the_program_chord():
+    E = ss.Ellipsoid([1.0, -1.0], np.diag([4.0, 1.0]))
+    assert not isinstance(_chord_function(E), _CZChords)
+    x = hit_and_run(E, np.random.default_rng(3), 30, thin=2, burn_in=20)
+    assert all(E.contains(p) for p in x)
 
 
 def test_samplers_refuse_empty_flat_and_unknown_requests():
