@@ -33,6 +33,7 @@ from scipy.spatial import QhullError
 from .. import tolerances as tol
 from .._validation import check_count, check_rng
 from ..solvers.parametric import ParametricPoints
+from . import _matrices as mx
 from .cz_vertices import cz_vertices, hull_geometry
 from .hpolytope import HPolytope
 
@@ -236,12 +237,11 @@ class _CZChords:
     """
 
     def __init__(self, cz, program_chord):
-        G, A = _dense(cz.G), _dense(cz.A)
-        n, ng = G.shape
+        n, ng = cz.G.shape
         self.n, self.c, self.b = n, np.asarray(cz.c), np.asarray(cz.b)
         self.h = np.append(cz.h, np.inf)
-        column = np.concatenate([np.ones(n), np.zeros(A.shape[0])])  # −d's place, stored entries
-        matrix = np.hstack([np.vstack([G, A]), column[:, None]])
+        column = np.concatenate([np.ones(n), np.zeros(cz.nc)])[:, None]  # −d's place, stored entries
+        matrix = mx.hstack([mx.vstack([cz.G, cz.A]), column])  # sparse where Z is
         t_only = np.zeros((1, ng + 1))
         t_only[0, ng] = 1.0
         engine = ParametricPoints(t_only, matrix, np.array([[1.0], [-1.0]]), np.isinf(self.h),
@@ -255,10 +255,6 @@ class _CZChords:
         if np.isnan(values).any():
             return self.fallback(x, d)
         return float(-values[1]), float(values[0])
-
-
-def _dense(M) -> np.ndarray:
-    return M.toarray() if sp.issparse(M) else np.asarray(M, dtype=float)
 
 
 def rejection_sample(S, rng: np.random.Generator, size: int = 1, max_tries: int = 200_000) -> np.ndarray:

@@ -237,24 +237,28 @@ class ParametricPoints:
     Parameters
     ----------
     G : ndarray, shape (n, ng)
-    A : ndarray, shape (nc, ng)
+    A : ndarray or sparse matrix, shape (nc, ng)
         With the block's entries set to any values but 0 (they are stored entries).
     D : ndarray, shape (K, n)
     free : ndarray of bool, shape (ng,)
     block : (ndarray, ndarray)
-        Row and column indices of the entries of A that change.
+        Row and column indices of the entries of A that change (each entry once).
     """
 
-    def __init__(self, G: np.ndarray, A: np.ndarray, D: np.ndarray, free: np.ndarray,
+    def __init__(self, G: np.ndarray, A, D: np.ndarray, free: np.ndarray,
                  block: tuple[np.ndarray, np.ndarray]):
         self.G = np.asarray(G, dtype=float)
-        self.A_dense = np.array(A, dtype=float)
-        self.A = _csc(self.A_dense)
+        self.A = _csc(A)
         self.D = np.asarray(D, dtype=float)
         self.free = np.asarray(free, dtype=bool)
         self.block = tuple(np.asarray(ix, dtype=np.int64) for ix in block)
         self._q = -(self.D @ self.G)
-        self.absA = np.abs(self.A_dense)
+        # The check's products: the entries outside the block (the block's stored as 0), then the
+        # block's own terms added row by row, so no program copies A (kept sparse if it came so).
+        fixed = self.A.copy()
+        rows, cols = self.block
+        fixed[rows, cols] = 0.0
+        self._fixed, self._abs_fixed = fixed, abs(fixed)
 
     def session(self) -> "PointSession":
         """A run's warm models (one thread at a time)."""
@@ -275,8 +279,7 @@ class PointSession:
         entries ``block``; NaN where no backend gave a point that passes the check."""
         e = self.engine
         K, n = e.D.shape
-        A, absA = e.A_dense.copy(), e.absA.copy()
-        A[e.block], absA[e.block] = block, np.abs(block)
+        block = np.asarray(block, dtype=float)
         values, points = np.full(K, np.nan), np.full((K, n), np.nan)
         bounded = ~e.free
         scale = 1.0 + np.abs(b).max(initial=0.0)
@@ -291,7 +294,7 @@ class PointSession:
                 xi = answer.eta
                 if answer.status != "candidate" or not np.all(np.isfinite(xi)):
                     continue
-                if _satisfies(A, absA, b, h, bounded, xi, scale):
+                if _satisfies(e, block, b, h, bounded, xi, scale):
                     points[j] = c + e.G @ xi
                     values[j] = e.D[j] @ points[j]
             if not np.isnan(values).any():
@@ -299,12 +302,17 @@ class PointSession:
         return values, points
 
 
-def _satisfies(A: np.ndarray, absA: np.ndarray, b: np.ndarray, h: np.ndarray, bounded: np.ndarray,
-               xi: np.ndarray, scale: float) -> bool:
+def _satisfies(e: ParametricPoints, block: np.ndarray, b: np.ndarray, h: np.ndarray,
+               bounded: np.ndarray, xi: np.ndarray, scale: float) -> bool:
     """Whether Aξ = b and |ξ_B| ≤ h_B hold to ``SOLVER_CHECK_TOL`` of the program's scale (the
-    check a point of a bracket's lower end passes, as `Presolved.checked_gaps` in presolved units)."""
-    residual = np.abs(A @ xi - b).max(initial=0.0)
+    check a point of a bracket's lower end passes, as `Presolved.checked_gaps` in presolved units),
+    A being ``e``'s matrix with the block's entries ``block``."""
+    rows, cols = e.block
+    m = e.A.shape[0]
+    Axi = e._fixed @ xi + np.bincount(rows, block * xi[cols], minlength=m)
+    terms = e._abs_fixed @ np.abs(xi) + np.bincount(rows, np.abs(block * xi[cols]), minlength=m)
+    residual = np.abs(Axi - b).max(initial=0.0)
     overshoot = (np.abs(xi[bounded]) - h[bounded]).max(initial=0.0)
-    size = scale + (absA @ np.abs(xi)).max(initial=0.0)
+    size = scale + terms.max(initial=0.0)
     return bool(residual <= tol.SOLVER_CHECK_TOL * size
                 and overshoot <= tol.SOLVER_CHECK_TOL * (1.0 + h[bounded].max(initial=0.0)))
