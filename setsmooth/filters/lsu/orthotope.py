@@ -73,7 +73,8 @@ def lsuo_filter(model: LSUModel, ys: Any, us: Any, *, std: bool = True,
     ys, us = model.check_data(ys, us)
     check_on_inconsistent(on_inconsistent)
     hull = IntervalHull()
-    W = model.W
+    # 𝕎 in the zonotope form the sum takes it in, built once (a Box operand is converted at every step).
+    W = model.W.to_zonotope()
     supports = []
     box = model.prior
     strips = model.strip_sets(ys)   # the CZ forms of model.strip(y), built at once
