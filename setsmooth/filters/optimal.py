@@ -48,8 +48,8 @@ from ..models.linear_system import LinearSystem
 from .classical import _first_empty
 from .steps import _check_state_set
 
-__all__ = ["joint_trajectory_set", "joint_trajectory_sets", "optimal_filter", "optimal_joint_smoother",
-           "augment_identical_process_noise"]
+__all__ = ["joint_trajectory_set", "joint_trajectory_sets", "JointTrajectoryRows", "optimal_filter",
+           "optimal_joint_smoother", "augment_identical_process_noise"]
 
 
 def joint_trajectory_set(system, joint_range: JointRange, ys: Any, stop: int | None = None) -> ConvexSet:
@@ -129,7 +129,80 @@ def joint_trajectory_sets(system, joint_range: JointRange, ys: Any, stops) -> li
     """
     system, ys = measured(system, ys)
     stops = [_check(system, joint_range, ys, stop)[1] for stop in stops]
-    return _trajectory_sets(system, joint_range, ys, stops)
+    return JointTrajectoryRows(system, joint_range, max(stops, default=0)).sets(ys, stops)
+
+
+class JointTrajectoryRows:
+    """The rows of (★) of a system under a joint range for the times 0..last, before the data.
+
+    Only the measurement rows' right-hand sides y_l − D_l c_{v_l} − C_l x̄_l (and their rounding
+    bounds) depend on the measurements: the rows' entries, the nominal trajectory x̄, the dynamics
+    rows and the rounding charges of B·G_J and D·G_J are computed once here, and `sets` completes
+    them for a data set. Many data sets of one system and joint range (Monte Carlo runs) share one
+    instance; `joint_trajectory_sets` makes one per call.
+
+    Parameters
+    ----------
+    system : LinearSystem
+    joint_range : JointRange
+        With the system's n, p, q.
+    last : int, optional
+        The last time whose rows are prepared; defaults to the joint range's T.
+
+    Raises
+    ------
+    ValueError
+        When the joint range's n, p, q differ from the system's or ``last`` lies outside
+        [0, joint_range.T].
+
+    Examples
+    --------
+    >>> import setsmooth as ss
+    >>> from setsmooth.filters.optimal import JointTrajectoryRows
+    >>> box = ss.Box([-1.0], [1.0])
+    >>> system = ss.LinearSystem([[1.0]], None, [[1.0]], W=box, V=box)
+    >>> J = ss.JointRange.identical_process_noise(ss.Box([-5.0], [5.0]), box, box, T=2)
+    >>> rows = JointTrajectoryRows(system, J)
+    >>> [Z.dim for Z in rows.sets([[0.0], [0.0], [0.0]], [0, 2])], rows.sets([[0.5]], [0])[0].dim
+    ([1, 3], 1)
+    """
+
+    def __init__(self, system, joint_range: JointRange, last: int | None = None):
+        check_system(system)
+        _check_joint(system, joint_range)
+        last = joint_range.T if last is None else last
+        if isinstance(last, bool) or not isinstance(last, (int, np.integer)) or not 0 <= last <= joint_range.T:
+            raise ValueError(f"last must be an integer in [0, {joint_range.T}], got {last!r}")
+        self.system, self.joint_range, self.last = system, joint_range, int(last)
+        cz = joint_range.set._flat_cz
+        self._rows = None if cz is None else _JointRows(system, joint_range, cz, self.last)
+
+    def sets(self, ys: Any, stops) -> list[ConvexSet]:
+        """``joint_trajectory_set(system, joint_range, ys, k)`` for every k in ``stops`` (k ≤ last):
+        the same sets, bit for bit, from the prepared rows.
+
+        Parameters
+        ----------
+        ys : array_like, shape (T'+1, m)
+        stops : sequence of int
+            As ``stop`` of `joint_trajectory_set` (None: the last row of ``ys``), at most ``last``.
+
+        Returns
+        -------
+        list of ConvexSet
+
+        Raises
+        ------
+        ValueError
+            As `joint_trajectory_set`, or for a stop after ``last``.
+        """
+        system, ys = measured(self.system, ys)
+        stops = [_check(system, self.joint_range, ys, stop)[1] for stop in stops]
+        if max(stops, default=0) > self.last:
+            raise ValueError(f"the rows are prepared up to k = {self.last}, got stops {stops}")
+        if self._rows is None:
+            return [_lazy(system, self.joint_range, ys, k) for k in stops]
+        return self._rows.sets(ys, stops)
 
 
 def optimal_filter(system, joint_range: JointRange, ys: Any, *, detect_empty: bool = True) -> SetEstimates:
@@ -254,12 +327,16 @@ def augment_identical_process_noise(system, X0: ConvexSet) -> tuple[LinearSystem
     return augmented, cartesian_product(X0, system.W)
 
 
-def _check(system, joint_range: JointRange, ys: Any, stop: int | None) -> tuple[np.ndarray, int]:
+def _check_joint(system, joint_range: JointRange) -> None:
     if not isinstance(joint_range, JointRange):
         raise TypeError(f"joint_range must be a JointRange, got {type(joint_range).__name__}")
     if (joint_range.n, joint_range.p, joint_range.q) != (system.n, system.p, system.q):
         raise ValueError(f"joint_range has (n, p, q) = {(joint_range.n, joint_range.p, joint_range.q)} but "
                          f"the system has {(system.n, system.p, system.q)}")
+
+
+def _check(system, joint_range: JointRange, ys: Any, stop: int | None) -> tuple[np.ndarray, int]:
+    _check_joint(system, joint_range)
     last = min(joint_range.T, ys.shape[0] - 1)
     if ys.shape[0] - 1 > joint_range.T:
         raise ValueError(f"ys has {ys.shape[0]} rows (T = {ys.shape[0] - 1}) but joint_range covers only "
@@ -305,30 +382,20 @@ def _lazy(system, joint_range: JointRange, ys: np.ndarray, stop: int) -> ConvexS
     return consistent.project(range(n_states))
 
 
-def _trajectory_sets(system, joint_range: JointRange, ys: np.ndarray, stops) -> list[ConvexSet]:
-    """⟦x_{0:k} | y_{0:k}⟧ (★) for every k in ``stops``. The rows of a time l do not depend on the
-    stop, so when J flattens to a CZ they are computed once, up to the last stop, and each set
-    takes those of l ≤ k (`_JointRows`): the same CZ as assembled for k alone, bit for bit."""
-    cz = joint_range.set._flat_cz
-    if cz is None:
-        return [_lazy(system, joint_range, ys, k) for k in stops]
-    rows = _JointRows(system, joint_range, cz, ys, max(stops, default=0))
-    return [rows.trajectories(k) for k in stops]
-
-
 class _JointRows:
-    """The rows of (★) for the times 0..last, one block per row group of the paper's equations,
-    each with its right-hand side and rounding slack (`setsmooth.sets.rounding`); `trajectories`
-    stacks the blocks of the times 0..k into the trajectory CZ of stop k.
+    """The rows of (★) for the times 0..last that do not depend on the data, and `sets`, which adds
+    the measurements' right-hand sides and stacks the rows of the times 0..k for every stop k.
 
     Blocks, in the CZ's row order: x_0's rows, the dynamics of l = 0..last−1, the measurements of
-    l = 0..last. A block's entries are kept as (rows within the block, state columns, values) and
-    (rows, η columns, values): the state columns of time l are l·n.. whatever the stop, the η
-    columns follow the n(k+1) state columns of stop k."""
+    l = 0..last. Only the measurement rows' right-hand sides y_l − D_l c_{v_l} − C_l x̄_l and their
+    rounding bounds depend on y; the entries, the nominal trajectory x̄, the dynamics rows' bounds
+    and the charges of the products B·G_J, D·G_J do not, nor does any row depend on the stop. A
+    block's entries are kept as (rows within the block, state columns, values) and (rows, η columns,
+    values): the state columns of time l are l·n.. whatever the stop, the η columns follow the
+    n(k+1) state columns of stop k."""
 
-    def __init__(self, system, joint_range: JointRange, cz: ConstrainedZonotope, ys: np.ndarray, last: int):
+    def __init__(self, system, joint_range: JointRange, cz: ConstrainedZonotope, last: int):
         n = system.n
-        self.n = n
         G_J = sp.csr_matrix(cz.G)
         if not G_J.has_canonical_format:  # duplicate entries: summed once, for the rows and their charges alike
             G_J = G_J.copy()
@@ -340,7 +407,6 @@ class _JointRows:
         for l in range(last):
             nominal[l + 1] = (system.A_at(l) @ nominal[l] + system.E_at(l) @ c_J[list(joint_range.w_dims(l))]
                               + system.input_term(l))
-        self.nominal = nominal
 
         def entries(block: np.ndarray, column: int):
             r, c = np.nonzero(block)
@@ -357,80 +423,84 @@ class _JointRows:
             return (zeros if bounded is None else bounded), (zeros if free is None else free)
 
         x0 = list(joint_range.x0_dims())
-        # Each block: (state entries, η entries, rhs, slack, slack_free); slack of the dynamics and
-        # measurement blocks added below.
-        blocks = [[entries(np.eye(n), 0), entries(-G_J[x0].toarray(), 0), np.zeros(n),
-                   rounding.zeros_or(None if cz.pad is None else cz.pad[x0], n),
-                   rounding.zeros_or(None if cz.pad_free is None else cz.pad_free[x0], n)]]
+        head = [(entries(np.eye(n), 0), entries(-G_J[x0].toarray(), 0), n)]   # (state, η entries, rows)
         residuals, charges = [], []
         for l in range(last):
             A_l, B_l, w = system.A_at(l), system.E_at(l), list(joint_range.w_dims(l))
             G_w = G_J[w]
             states = np.hstack([-np.asarray(A_l, dtype=float), np.eye(n)])   # x_l, x_{l+1}
-            blocks.append([entries(states, n * l), entries(-_sparse_product(B_l, G_w.toarray()), 0),
-                           np.zeros(n)])
+            head.append((entries(states, n * l), entries(-_sparse_product(B_l, G_w.toarray()), 0), n))
             residuals.append([(A_l, nominal[l]), (B_l, c_J[w]), (np.ones(n), system.input_term(l)),
                               (-np.ones(n), nominal[l + 1])])
             charges.append(charge(B_l, w, G_w))
+        # Dot2 bounds each row on its own (`rounding.residual_bounds`): the dynamics rows' now, the
+        # measurement rows' with the data, bit for bit the bounds of all rows in one pass.
+        self.head_slack = np.concatenate([rounding.zeros_or(None if cz.pad is None else cz.pad[x0], n),
+                                          *(rounding.add(error, bounded) for error, (bounded, _) in
+                                            zip(rounding.residual_bounds(residuals), charges))])
+        self.head_slack_free = np.concatenate([
+            rounding.zeros_or(None if cz.pad_free is None else cz.pad_free[x0], n),
+            *(free for _, free in charges)])
+        tail, self.measurements = [], []
         for l in range(last + 1):
             C_l, D_l, v = system.C_at(l), system.F_at(l), list(joint_range.v_dims(l))
             G_v = G_J[v]
-            rhs = ys[l] - D_l @ c_J[v] - C_l @ nominal[l]
-            blocks.append([entries(np.asarray(C_l, dtype=float), n * l),
-                           entries(_sparse_product(D_l, G_v.toarray()), 0), rhs])
-            m = C_l.shape[0]
-            residuals.append([(np.ones(m), ys[l]), (-D_l, c_J[v]), (-C_l, nominal[l]), (-np.ones(m), rhs)])
-            charges.append(charge(D_l, v, G_v))
-        # One Dot2 pass per number of terms: bit for bit the bounds of the rows one by one.
-        for block, error, (bounded, free) in zip(blocks[1:], rounding.residual_bounds(residuals), charges):
-            block += [rounding.add(error, bounded), free]
-        # Two runs of blocks, x_0 and the dynamics, then the measurements: the stop k takes a prefix of
-        # each. Their entries as one array per run (rows from the run's start, η columns from 0),
-        # with the entry count, row count and length of b and slack up to every block.
-        self.last, self.nc, self.ng = last, cz.nc, cz.ng
-        self.runs = [self._run(blocks[:1 + last]), self._run(blocks[1 + last:])]
+            tail.append((entries(np.asarray(C_l, dtype=float), n * l),
+                         entries(_sparse_product(D_l, G_v.toarray()), 0), C_l.shape[0]))
+            self.measurements.append((C_l, D_l, c_J[v], charge(D_l, v, G_v)))
+        self.n, self.nominal, self.nc, self.ng, self.h_J = n, nominal, cz.nc, cz.ng, cz.h
+        self.runs = [self._run(head), self._run(tail)]
         self.J = sp.coo_matrix(cz.A)
-        self.h_J = cz.h
         self.J_rows = (cz.b, rounding.zeros_or(cz.slack, cz.nc), rounding.zeros_or(cz.slack_free, cz.nc))
 
     @staticmethod
     def _run(blocks: list) -> dict:
-        sizes = np.array([block[2].size for block in blocks])
+        """A run of blocks as one array of entries (rows from the run's start, η columns from 0), with
+        the counts of entries and rows up to every block: the stop k takes a prefix of the run."""
+        sizes = np.array([rows for *_, rows in blocks])
         starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
         parts = [(r + start, c, v, np.full(r.size, eta))
-                 for block, start in zip(blocks, starts)
-                 for eta, (r, c, v) in enumerate(block[:2])]
+                 for block, start in zip(blocks, starts) for eta, (r, c, v) in enumerate(block[:2])]
         r, c, v, eta = (np.concatenate(part) for part in zip(*parts))
-        return {"r": r, "c": c, "v": v, "eta": eta.astype(bool),
-                "entries": np.cumsum([sum(block[i][0].size for i in range(2)) for block in blocks]),
-                "rows": np.cumsum(sizes),
-                "b": np.concatenate([block[2] for block in blocks]),
-                "slack": np.concatenate([block[3] for block in blocks]),
-                "slack_free": np.concatenate([block[4] for block in blocks])}
+        return {"r": r, "c": c, "v": v, "eta": eta.astype(bool), "rows": np.cumsum(sizes),
+                "entries": np.cumsum([state[0].size + eta[0].size for state, eta, _ in blocks])}
 
-    def trajectories(self, k: int) -> ConstrainedZonotope:
-        """The trajectory CZ of (★) with stop = k ≤ last: J's own rows, then x_0's, the dynamics l < k
-        and the measurements l ≤ k."""
+    def sets(self, ys: np.ndarray, stops) -> list[ConstrainedZonotope]:
+        """The trajectory CZs of (★) for the data ``ys`` and every stop k ≤ last in ``stops``."""
+        used = self.measurements[:max(stops, default=-1) + 1]   # the measurement rows of l ≤ max(stops)
+        rhs = [ys[l] - D_l @ c_v - C_l @ self.nominal[l] for l, (C_l, D_l, c_v, _) in enumerate(used)]
+        residuals = [[(np.ones(b.size), ys[l]), (-D_l, c_v), (-C_l, self.nominal[l]), (-np.ones(b.size), b)]
+                     for l, ((C_l, D_l, c_v, _), b) in enumerate(zip(used, rhs))]
+        slack = [rounding.add(error, bounded)
+                 for error, (*_, (bounded, _)) in zip(rounding.residual_bounds(residuals), used)]
+        tail_b, tail_slack = np.concatenate([np.zeros(0), *rhs]), np.concatenate([np.zeros(0), *slack])
+        tail_slack_free = np.concatenate([np.zeros(0), *(free for *_, (_, free) in used)])
+        return [self._trajectories(k, tail_b, tail_slack, tail_slack_free) for k in stops]
+
+    def _trajectories(self, k: int, tail_b: np.ndarray, tail_slack: np.ndarray,
+                      tail_slack_free: np.ndarray) -> ConstrainedZonotope:
+        """The trajectory CZ with stop = k: J's own rows, then x_0's, the dynamics l < k and the
+        measurements l ≤ k."""
         n = self.n
         n_states = n * (k + 1)
         head, tail = self.runs
         # the blocks of stop k: 1 + k of the first run (x_0, dynamics), k + 1 of the second
-        cut = [(run, run["entries"][k], run["rows"][k]) for run in (head, tail)]
+        head_rows, tail_rows = head["rows"][k], tail["rows"][k]
         row, r, c, v = self.nc, [self.J.row], [self.J.col + n_states], [self.J.data]
-        for run, entries, rows in cut:
+        for run in (head, tail):
+            entries = run["entries"][k]
             r.append(run["r"][:entries] + row)
             c.append(run["c"][:entries] + n_states * run["eta"][:entries])
             v.append(run["v"][:entries])
-            row += rows
+            row += run["rows"][k]
         A = sp.csc_matrix((np.concatenate(v), (np.concatenate(r), np.concatenate(c))),
                           shape=(row, n_states + self.ng))
         A.eliminate_zeros()
-
-        def stacked(key: str, J_part: np.ndarray) -> np.ndarray:
-            return np.concatenate([J_part, *(run[key][:rows] for run, _, rows in cut)])
-
-        b, slack, slack_free = (stacked(key, J_part) for key, J_part in zip(("b", "slack", "slack_free"),
-                                                                            self.J_rows))
+        b_J, slack_J, slack_free_J = self.J_rows
+        b = np.concatenate([b_J, np.zeros(head_rows), tail_b[:tail_rows]])
+        slack = np.concatenate([slack_J, self.head_slack[:head_rows], tail_slack[:tail_rows]])
+        slack_free = np.concatenate([slack_free_J, self.head_slack_free[:head_rows],
+                                     tail_slack_free[:tail_rows]])
         G = sp.hstack([sp.identity(n_states, format="csc"), sp.csc_matrix((n_states, self.ng))]).tocsc()
         h = np.concatenate([np.full(n_states, np.inf), self.h_J])
         trajectories = ConstrainedZonotope._trusted(G, self.nominal[:k + 1].reshape(-1), A, b, h,

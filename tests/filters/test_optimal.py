@@ -325,11 +325,12 @@ def _same_arrays(a, b) -> bool:
 
 @pytest.mark.parametrize("seed", range(6))
 def test_trajectory_sets_of_many_stops_are_those_assembled_for_each_stop_bit_for_bit(seed):
-    # joint_trajectory_sets computes the rows of times 0..T once and gives stop k the prefix of them;
+    # joint_trajectory_sets computes the rows of times 0..T once and gives stop k the prefix of them,
+    # and JointTrajectoryRows keeps the rows that do not depend on the data for several data sets;
     # assembled for stop k alone, the trajectory CZ must be the same, rounding slack included. A
     # time-varying system with an input and related noises (random_related_system's relations:
     # identical, v_k = α w_{k−1}, half-spaces) so that every block differs from the next.
-    from setsmooth.filters.optimal import joint_trajectory_sets
+    from setsmooth.filters.optimal import JointTrajectoryRows, joint_trajectory_sets
 
     rng = np.random.default_rng(300 + seed)
     base, _, joint, _, ys = random_related_system(rng)
@@ -340,14 +341,19 @@ def test_trajectory_sets_of_many_stops_are_those_assembled_for_each_stop_bit_for
                              u=rng.standard_normal((T + 1, 2)))
     ys = ys + rng.standard_normal(ys.shape)
     stops = [T, 0, 2, T - 1]
-    many = joint_trajectory_sets(system, joint, ys, stops)
-    for k, Z in zip(stops, many):
-        alone = ss.joint_trajectory_set(system, joint, ys, k)
-        assert Z.dim == alone.dim == 2 * (k + 1)
-        for name in ("G", "c", "A", "b", "h"):
-            assert _same_arrays(getattr(Z, name), getattr(alone, name)), (k, name)
-        for name in ("slack", "slack_free"):
-            assert _same_arrays(getattr(Z.factors, name), getattr(alone.factors, name)), (k, name)
+    rows = JointTrajectoryRows(system, joint)      # prepared once, completed by two data sets below
+    for data in (ys, ys + rng.standard_normal(ys.shape)):
+        for some, many in ((stops, joint_trajectory_sets(system, joint, data, stops)),
+                           (stops, rows.sets(data, stops)), ([0, 2], rows.sets(data[:T], [0, 2]))):
+            for k, Z in zip(some, many):
+                alone = ss.joint_trajectory_set(system, joint, data, k)
+                assert Z.dim == alone.dim == 2 * (k + 1)
+                for name in ("G", "c", "A", "b", "h"):
+                    assert _same_arrays(getattr(Z, name), getattr(alone, name)), (k, name)
+                for name in ("slack", "slack_free"):
+                    assert _same_arrays(getattr(Z.factors, name), getattr(alone.factors, name)), (k, name)
+    with pytest.raises(ValueError, match="prepared up to k = 2"):
+        JointTrajectoryRows(system, joint, 2).sets(ys, [3])
     # and the filter's posteriors are the projections of those sets
     posteriors = ss.optimal_filter(system, joint, ys, detect_empty=False)
     for k in range(T + 1):
