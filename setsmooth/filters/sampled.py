@@ -271,34 +271,36 @@ def _sampled_step(system: ScalarRelatedNoiseSystem, a: np.ndarray, b: np.ndarray
         if active.size * M > _BLOCK:   # memory bound: split the runs' budgets over several rounds
             M = max(_PILOT, _BLOCK // active.size)
             budget = np.minimum(budget, M)
-        x_prev = rng.random((active.size, M))
-        x_prev *= (b[active] - a[active])[:, None]
-        x_prev += a[active][:, None]
-        w = rng.random((active.size, M))
+        # The draws are rectangular (the random stream does not depend on the budgets); only run r's
+        # first budget_r candidates count, and everything below works on those alone, run after run
+        # (row-major order: run r's candidates are the segment starts[r] .. starts[r] + budget_r).
+        counted = np.arange(M)[None, :] < budget[:, None]
+        x_prev = rng.random((active.size, M))[counted]
+        x_prev *= np.repeat(b[active] - a[active], budget)
+        x_prev += np.repeat(a[active], budget)
+        w = rng.random((active.size, M))[counted]
         w *= w_hi - w_lo
         w += w_lo
         x = system.eta(x_prev) + w                                          # line 9, (27)
         v_lo, v_hi = system.conditional_v(w)
         g_lo, g_hi = system.measurement(x, v_lo), system.measurement(x, v_hi)
-        yk = y[active][:, None]
+        yk = np.repeat(y[active], budget)
         # Line 10: y_k ∈ g(x_k, ⟦v_k | w_{k−1}⟧), the interval between g(x, lo) and g(x, hi): y lies
         # between them when it is at or above g(x, lo) and not above g(x, hi), or the other way round.
         # Three passes instead of min/max; a y exactly on an end can be refused when g decreases in v
         # (a null set), an inconsistent x_k is never accepted.
         ok = (g_lo <= yk) != (g_hi < yk)
-        if (budget < M).any():
-            ok &= np.arange(M)[None, :] < budget[:, None]
-        total = ok.sum(axis=1)
+        starts = np.concatenate([[0], np.cumsum(budget)[:-1]])
+        total = np.add.reduceat(ok, starts, dtype=np.int64)
         used = budget.copy()
-        over = np.flatnonzero(total > need[active])
-        if over.size:  # keep the first `need` acceptances of these runs, in draw order
-            count = np.cumsum(ok[over], axis=1, dtype=np.int64)
-            cut = count <= need[active[over]][:, None]
-            ok[over] &= cut
-            used[over] = np.argmax(count >= need[active[over]][:, None], axis=1) + 1
-            total[over] = need[active[over]]
-        lo[active] = np.minimum(lo[active], np.where(ok, x, np.inf).min(axis=1))
-        hi[active] = np.maximum(hi[active], np.where(ok, x, -np.inf).max(axis=1))
+        for r in np.flatnonzero(total > need[active]):  # keep the first `need` acceptances, in draw order
+            run = ok[starts[r]:starts[r] + budget[r]]
+            count = np.cumsum(run, dtype=np.int64)
+            run &= count <= need[active[r]]
+            used[r] = np.argmax(count >= need[active[r]]) + 1
+            total[r] = need[active[r]]
+        lo[active] = np.minimum(lo[active], np.minimum.reduceat(np.where(ok, x, np.inf), starts))
+        hi[active] = np.maximum(hi[active], np.maximum.reduceat(np.where(ok, x, -np.inf), starts))
         drawn[active] += used
         got[active] += total
         need[active] -= total

@@ -162,3 +162,60 @@ def test_sampled_filter_bad_input_names_the_argument():
         ss.sampled_optimal_filter(SYSTEM, [1.0, 1.0], np.random.default_rng(0), n_samples=10, max_draws=5)
     with pytest.raises(ValueError, match="ys"):
         ss.sampled_optimal_filter(SYSTEM, np.ones((2, 2, 2)), np.random.default_rng(0))
+
+
+def _rectangular_step(system, a, b, y, rng, N, max_draws):
+    """Lines 6–14 on the whole rectangle of draws (every run evaluated on the round's largest budget,
+    then masked): the form `sampled._sampled_step` replaced, kept as its reference."""
+    from setsmooth.filters.sampled import _BLOCK, _PILOT, _budget
+
+    runs = a.size
+    need, drawn, got = np.full(runs, N, dtype=np.int64), np.zeros(runs, np.int64), np.zeros(runs, np.int64)
+    lo, hi = np.full(runs, np.inf), np.full(runs, -np.inf)
+    w_lo, w_hi = system.w_range
+    active = np.arange(runs)
+    while active.size:
+        budget = _budget(need[active], drawn[active], got[active], max_draws)
+        M = int(budget.max())
+        if active.size * M > _BLOCK:
+            M = max(_PILOT, _BLOCK // active.size)
+            budget = np.minimum(budget, M)
+        x_prev = rng.random((active.size, M)) * (b[active] - a[active])[:, None] + a[active][:, None]
+        w = rng.random((active.size, M)) * (w_hi - w_lo) + w_lo
+        x = system.eta(x_prev) + w
+        v_lo, v_hi = system.conditional_v(w)
+        yk = y[active][:, None]
+        ok = (system.measurement(x, v_lo) <= yk) != (system.measurement(x, v_hi) < yk)
+        ok &= np.arange(M)[None, :] < budget[:, None]
+        total, used = ok.sum(axis=1), budget.copy()
+        for r in np.flatnonzero(total > need[active]):
+            count = np.cumsum(ok[r])
+            ok[r] &= count <= need[active[r]]
+            used[r] = np.argmax(count >= need[active[r]]) + 1
+            total[r] = need[active[r]]
+        lo[active] = np.minimum(lo[active], np.where(ok, x, np.inf).min(axis=1))
+        hi[active] = np.maximum(hi[active], np.where(ok, x, -np.inf).max(axis=1))
+        drawn[active] += used
+        got[active] += total
+        need[active] -= total
+        active = active[(need[active] > 0) & (drawn[active] < max_draws)]
+    return lo, hi, got, drawn
+
+
+@pytest.mark.parametrize("N, max_draws", [(300, 10**6), (5000, 10**6), (800, 2500)])
+def test_a_step_evaluated_on_the_counted_candidates_equals_the_rectangular_step(N, max_draws):
+    # Runs of very different acceptance rates (wide and narrow priors), so budgets differ per round,
+    # some runs overshoot their need and, with the small cap, some stop at max_draws.
+    from setsmooth.filters.sampled import _sampled_step
+
+    rng = np.random.default_rng(11)
+    a = rng.uniform(0.0, 0.5, 40)
+    b = a + np.geomspace(1e-3, 1.0, 40)
+    y = eta_27(rng.uniform(a, b)) + 0.5
+    ours = _sampled_step(SYSTEM, a, b, y, np.random.default_rng(5), N, max_draws)
+    reference = _rectangular_step(SYSTEM, a, b, y, np.random.default_rng(5), N, max_draws)
+    for mine, ref in zip(ours[:2], reference[:2]):
+        finite = np.isfinite(ref)
+        assert np.array_equal(mine[finite], ref[finite]) and np.all(np.isnan(mine[~finite]))
+    assert np.array_equal(ours[2], reference[2]) and np.array_equal(ours[3], reference[3])
+    assert (ours[2] == N).any() and (ours[2] < N).any() or max_draws > 10**5
