@@ -69,17 +69,14 @@ class Batch:
         self._own: dict | None = {} if own_model else None
 
     def model(self, pre) -> "WarmSimplex":
-        """The warm model of the presolved program ``pre`` that this batch's solves use (a batch's
-        own model is looked up first: the thread's cache costs more than the solve's Python around
-        it, and a chain asks once per solve)."""
-        own = self._own.get(id(pre)) if self._own is not None else None
-        if own is not None and own[0] is pre:
-            return own[1]
+        """The warm model of the presolved program ``pre`` that this batch's solves use."""
         kept = cached_instance(pre, WARM_MODEL_KEY, lambda: WarmSimplex(pre.A, pre.b, pre.bounded))
         if self._own is None:
             return kept
-        self._own[id(pre)] = (pre, kept.twin())
-        return self._own[id(pre)][1]
+        own = self._own.get(id(pre))
+        if own is None or own[0] is not pre:
+            own = self._own[id(pre)] = (pre, kept.twin())
+        return own[1]
 
 #: HiGHS's simplex variant for a solve from a primal feasible basis (the batch's start, the last
 #: optimum): the primal method, about 10× faster there than the dual one, the variant of every cold
@@ -121,7 +118,6 @@ class WarmSimplex:
         self._scaling = None  # HiGHS's default simplex_scale_strategy, read with the model
         self._warm = False  # whether HiGHS holds a primal feasible basis (the primal method's start)
         self._block: tuple[object, dict] | None = None  # (batch, its answers by objective)
-        self._rung: tuple | None = None  # the options of `set_rung` the model holds (`_set_rung`)
         #: Whether the last `minimize` answer came from the primal method (`simplex` asks the dual
         #: method again only then).
         self.answered_by_primal = False
@@ -146,7 +142,7 @@ class WarmSimplex:
         """
         h, p = self._h, self.shape[1]
         self._set_cost(np.zeros(p))
-        self._set_rung(SIMPLEX_TOLERANCES[0], rung_caps(sum(self.shape), 2)[0], _DUAL)
+        set_rung(h, SIMPLEX_TOLERANCES[0], rung_caps(sum(self.shape), 2)[0])
         basis = None
         for scaling in FEASIBLE_BASIS_SCALINGS:
             h.setOptionValue("simplex_scale_strategy", self._scaling if scaling is None else scaling)
@@ -201,7 +197,7 @@ class WarmSimplex:
         self.answered_by_primal = False
         for tolerance, cap in zip(SIMPLEX_TOLERANCES, rung_caps(m + p, len(SIMPLEX_TOLERANCES))):
             primal = self._warm and not dual
-            self._set_rung(tolerance, cap, WARM_STRATEGY if primal else _DUAL)
+            set_rung(h, tolerance, cap, WARM_STRATEGY if primal else _DUAL)
             h.run()
             point = settled_point(h)
             if point is not None:
@@ -216,15 +212,6 @@ class WarmSimplex:
         h.clearSolver()
         self._warm = False
         return name, np.full(p, np.nan), np.full(m, np.nan)
-
-    def _set_rung(self, tolerance: float | None, cap: int, strategy: int) -> None:
-        """`set_rung` on the model, only when its options differ from those it holds: a chain's
-        solves nearly all run at the first rung by the primal method, and HiGHS's five option calls
-        (and what a run redoes after them) cost ~0.1 ms a solve of the smoother's programs. HiGHS
-        keeps options through ``clearSolver`` and ``setBasis``."""
-        if (tolerance, cap, strategy) != self._rung:
-            set_rung(self._h, tolerance, cap, strategy)
-            self._rung = (tolerance, cap, strategy)
 
     def _set_cost(self, q: np.ndarray) -> None:
         """The model's costs to ``q``, passing only the entries that differ: an objective of a

@@ -323,35 +323,3 @@ def test_a_small_programs_batch_is_one_block_lp_with_the_warm_runs_answers(monke
                 bound = block.hi[i] if sign > 0 else -block.lo[i]
                 assert bound >= exact - 1e-9 * width[i]
                 assert bound <= exact + 1e-6 * width[i]
-
-
-def test_a_warm_model_sets_highs_options_only_when_its_rung_changes(monkeypatch):
-    """A chain's solves nearly all run at the first rung by the primal method: the model passes
-    `highs.set_rung` to HiGHS when the rung or the method changes, not per solve, and its answers
-    are those of a model given every option before every run, bit for bit."""
-    from setsmooth.solvers.warm_simplex import WarmSimplex
-
-    pre, q0 = _cycling_program()
-    rng = np.random.default_rng(3)
-    objectives = [q0] + [rng.standard_normal(q0.size) for _ in range(5)]
-    real = highs.set_rung
-
-    def chain(always: bool) -> tuple[list, list]:
-        rungs = []
-
-        def recorded(h, tolerance, cap, strategy=1):
-            rungs.append((tolerance, cap, strategy))
-            real(h, tolerance, cap, strategy)
-
-        monkeypatch.setattr(warm_module, "set_rung", recorded)
-        model, token = WarmSimplex(pre.A, pre.b, pre.bounded), object()
-        if always:
-            monkeypatch.setattr(model, "_set_rung", lambda *rung: recorded(model._h, *rung))
-        return [model.minimize(q, token) for q in objectives], rungs
-
-    once, rungs = chain(always=False)
-    every, every_rungs = chain(always=True)
-    assert len(rungs) < len(every_rungs)
-    assert all(a != b for a, b in zip(rungs, rungs[1:]))  # each call a change
-    for (n1, eta1, lam1), (n2, eta2, lam2) in zip(once, every):
-        assert n1 == n2 and np.array_equal(eta1, eta2) and np.array_equal(lam1, lam2)
