@@ -5,12 +5,12 @@ outside the package; it is looked for in ``$SETSMOOTH_FIGURES_DIR``, then in the
 its parents, then beside the package source (an editable install or a checkout).
 
 Run sizes: each script has its own default: Figs. 3 and 5 use 300 runs, Fig. 4 the paper's 100 runs
-per (q, r) pair, Fig. 6 the paper's 5000 runs. Together that is 430–700 CPU-seconds (7–10 minutes
-measured on a 2-core machine shared with other jobs, about 4–6 minutes on 2 idle cores). ``--runs N``
+per (q, r) pair, Fig. 6 the paper's 5000 runs. Together that is 650–720 CPU-seconds (350–380 s of
+wall time measured on 2 idle cores; more on a machine shared with other jobs). ``--runs N``
 sets every figure to N runs, except that Fig. 4 uses min(N, 100) runs per pair, the paper's size;
 ``--runs 5000`` reproduces the paper's sizes throughout (one to two hours on 2 cores). Stability
 Table 1 runs the paper's 101 steps with 2 runs by default (its radii need a standard error), about
-180 CPU-seconds a run, most of it the OIT-CZ's certified hulls at n = 30; it uses min(N, 100) runs,
+120 CPU-seconds a run, most of it the OIT-CZ's certified hulls at n = 30; it uses min(N, 100) runs,
 the paper's size.
 
 Scheduling: with two or more workers (``--workers W``, default 2) and two or more scripts, every script
