@@ -15,8 +15,6 @@ the data as stored (`rescale` says what is done with a crossed, i.e. empty, box)
 
 from __future__ import annotations
 
-import bisect
-import math
 from typing import NamedTuple
 
 import numpy as np
@@ -37,11 +35,11 @@ def gauss_jordan(A: np.ndarray) -> np.ndarray:
     """
     nc, ng = A.shape
     M = np.concatenate((A, np.eye(nc)), axis=1)
-    # |entries| of the rows and columns still available; those of used rows and columns read −1.
+    # |entries| of the rows and columns still available; used ones are marked −1.
     free = np.abs(A)
     threshold = tol.RANK_TOL * free.max(initial=0.0)
     rows = []
-    used = np.zeros((nc, ng), dtype=bool)
+    used_rows, used_cols = np.zeros(nc, dtype=bool), np.zeros(ng, dtype=bool)
     pivots = min(nc, ng)
     for step in range(pivots):
         i, j = divmod(int(free.argmax()), ng)
@@ -53,10 +51,10 @@ def gauss_jordan(A: np.ndarray) -> np.ndarray:
         M -= factor[:, None] * M[i]   # np.outer's products, without its argument handling
         rows.append(i)
         if step + 1 < pivots:         # no search follows the last pivot
-            used[i] = True
-            used[:, j] = True
+            used_rows[i] = used_cols[j] = True
             free = np.abs(M[:, :ng])
-            free[used] = -1.0
+            free[used_rows] = -1.0    # (two masks: cheaper than a row or column at a time)
+            free[:, used_cols] = -1.0
     order = rows
     P = M[order, ng:]
     norms = np.abs(M[order, :ng]).sum(axis=1)
@@ -137,8 +135,7 @@ def propagate(A: np.ndarray, b: np.ndarray, h: np.ndarray) -> FactorBounds:
     sweep = _Sweep(Alo, Ahi, bp, db, ok, bounds_all, lo, hi, Rlo, Rhi)
     rows = Ap.shape[0]
     # Consecutive rows that see the same factors, [start, end) (a batch never crosses one's end).
-    ends = ((seen[1:] != seen[:-1]).any(axis=1).nonzero()[0] + 1).tolist() + [rows]
-    every = every.tolist()
+    ends = np.concatenate(((seen[1:] != seen[:-1]).any(axis=1).nonzero()[0] + 1, [rows]))
     # Rows per batch: after a batch that stopped early, as many as it took (rows evaluated past the
     # stop are evaluated again); after one that did not, twice as many.
     limit = rows
@@ -147,7 +144,7 @@ def propagate(A: np.ndarray, b: np.ndarray, h: np.ndarray) -> FactorBounds:
         while i < rows:
             # Whole rows instead of an index of every column: the same elements in the same order.
             cols = slice(None) if every[i] else seen[i].nonzero()[0]
-            end = min(ends[bisect.bisect_right(ends, i)], i + limit)
+            end = min(int(ends[ends.searchsorted(i, side="right")]), i + limit)
             done = sweep.batch(i, end, cols) if end - i > 1 else 0
             if done == 0:
                 sweep.one(i, cols)
@@ -179,8 +176,8 @@ class _Sweep:
         """Row i by itself, on its factors ``cols``."""
         lo, hi, Rlo, Rhi = self.lo, self.hi, self.Rlo, self.Rhi
         xlo, xhi = lo[cols], hi[cols]
-        qlo, qhi = _row(self.Alo[i, cols], self.Ahi[i, cols], xlo, xhi, self.bp[i], self.db[i],
-                        None if self.bounds_all[i] else self.ok[i, cols])
+        qlo, qhi, _ = _rows(self.Alo[i, cols], self.Ahi[i, cols], xlo, xhi, self.bp[i], self.db[i],
+                            None if self.bounds_all[i] else self.ok[i, cols])
         qlo = np.maximum(qlo, Rlo[cols])
         qhi = np.minimum(qhi, Rhi[cols])
         Rlo[cols], Rhi[cols] = qlo, qhi
@@ -228,65 +225,44 @@ class _Sweep:
         return taken
 
 
-def _row(alo, ahi, xlo, xhi, beta, dbeta, ok):
-    """The range of each ξ_j implied by one row Σ_l [alo_l, ahi_l] ξ_l ∈ [β − dβ, β + dβ] and the other
-    factors' boxes ξ_l ∈ [xlo_l, xhi_l], rounded outward; unbounded where ``ok`` is False (the divisor
-    interval [alo_j, ahi_j] contains 0; None: every one excludes it). Infinite terms of the sums are
-    counted (`_others_with_infinities`). Returns ``(qlo, qhi)``.
-
-    `_rows` is the same formula for several rows at once, element by element (`_Sweep.batch`).
-    """
-    p1, p2, p3, p4 = alo * xlo, alo * xhi, ahi * xlo, ahi * xhi
-    # fmin/fmax skip the NaN of 0·∞ (a zero coefficient endpoint against an unbounded box): the
-    # other candidates then carry the bound, as the interval product requires.
-    tlo = np.fmin(np.fmin(p1, p2), np.fmin(p3, p4))
-    thi = np.fmax(np.fmax(p1, p2), np.fmax(p3, p4))
-    slo, shi = tlo.sum(), thi.sum()
-    if math.isfinite(slo) and math.isfinite(shi):
-        olo, ohi = slo - tlo, shi - thi
-        mag = np.abs(tlo).sum() + np.abs(thi).sum()
-    else:  # infinite terms: they are counted, not subtracted
-        olo, ohi, mag = _others_with_infinities(tlo, thi)
-    # One bound for every rounding so far (products, sums, the subtraction of the own term, the two
-    # operations below): γ_{k+4} times the magnitudes involved.
-    err = gamma(tlo.shape[-1] + 4) * (mag + abs(beta) + dbeta)
-    nlo = (beta - dbeta) - ohi - err
-    nhi = (beta + dbeta) - olo + err
-    return _quotients(nlo, nhi, alo, ahi, ok)
-
-
 def _rows(alo, ahi, xlo, xhi, beta, dbeta, ok):
-    """`_row` for several rows against the same boxes: ``alo``, ``ahi``, ``ok`` of shape (r, k),
-    ``beta``, ``dbeta`` of shape (r,); every row's floats are those `_row` gives it.
+    """The range of each ξ_j implied by a row Σ_l [alo_l, ahi_l] ξ_l ∈ [β − dβ, β + dβ] and the other
+    factors' boxes ξ_l ∈ [xlo_l, xhi_l], rounded outward; unbounded where ``ok`` is False (the divisor
+    interval [alo_j, ahi_j] contains 0; None: every one excludes it).
 
-    Returns ``(qlo, qhi, finite)``; ``finite``: the row's sums are finite (rows with infinite sums
-    are left to `_row`, `_fine`).
+    One row (``alo``, ``ahi``, ``ok`` of shape (k,), scalar ``beta``, ``dbeta``) or several against the
+    same boxes (shape (r, k) and (r,)): the formula runs along the last axis, and every row's floats
+    are those it gives by itself.
+
+    Returns ``(qlo, qhi, finite)``; ``finite``: the row's sums are finite. A single row's infinite
+    sums are counted here (`_others_with_infinities`); several rows' are left to that (`_fine`).
     """
     # C order (an index of columns gives F order): a sum along the rows of a C-ordered array is each
     # row's pairwise sum, that of its 1-D sum; along an F-ordered one it adds term by term.
     alo, ahi = np.ascontiguousarray(alo), np.ascontiguousarray(ahi)
     p1, p2, p3, p4 = alo * xlo, alo * xhi, ahi * xlo, ahi * xhi
+    # fmin/fmax skip the NaN of 0·∞ (a zero coefficient endpoint against an unbounded box): the
+    # other candidates then carry the bound, as the interval product requires.
     tlo = np.fmin(np.fmin(p1, p2), np.fmin(p3, p4))
     thi = np.fmax(np.fmax(p1, p2), np.fmax(p3, p4))
     slo, shi = tlo.sum(axis=-1), thi.sum(axis=-1)
     finite = np.isfinite(slo) & np.isfinite(shi)
-    olo, ohi = slo[:, None] - tlo, shi[:, None] - thi
-    mag = np.abs(tlo).sum(axis=-1) + np.abs(thi).sum(axis=-1)
-    err = (gamma(tlo.shape[-1] + 4) * (mag + np.abs(beta) + dbeta))[:, None]
-    nlo = (beta - dbeta)[:, None] - ohi - err
-    nhi = (beta + dbeta)[:, None] - olo + err
-    qlo, qhi = _quotients(nlo, nhi, alo, ahi, ok)
-    return qlo, qhi, finite
-
-
-def _quotients(nlo, nhi, alo, ahi, ok):
-    """[nlo, nhi] / [alo, ahi] rounded outward; unbounded where ``ok`` is False (None: nowhere)."""
+    if tlo.ndim > 1 or finite:
+        olo, ohi = slo[..., None] - tlo, shi[..., None] - thi
+        mag = np.abs(tlo).sum(axis=-1) + np.abs(thi).sum(axis=-1)
+    else:  # one row with infinite terms: they are counted, not subtracted
+        olo, ohi, mag = _others_with_infinities(tlo, thi)
+    # One bound for every rounding so far (products, sums, the subtraction of the own term, the two
+    # operations below): γ_{k+4} times the magnitudes involved.
+    err = (gamma(tlo.shape[-1] + 4) * (mag + np.abs(beta) + dbeta))[..., None]
+    nlo = (beta - dbeta)[..., None] - ohi - err
+    nhi = (beta + dbeta)[..., None] - olo + err
     q1, q2, q3, q4 = nlo / alo, nlo / ahi, nhi / alo, nhi / ahi
     qlo = round_down(np.fmin(np.fmin(q1, q2), np.fmin(q3, q4)))
     qhi = round_up(np.fmax(np.fmax(q1, q2), np.fmax(q3, q4)))
     if ok is not None:
         qlo, qhi = np.where(ok, qlo, -np.inf), np.where(ok, qhi, np.inf)
-    return qlo, qhi
+    return qlo, qhi, finite
 
 
 def _fine(qlo, qhi, finite):
