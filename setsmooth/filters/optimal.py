@@ -129,7 +129,7 @@ def joint_trajectory_sets(system, joint_range: JointRange, ys: Any, stops) -> li
     """
     system, ys = measured(system, ys)
     stops = [_check(system, joint_range, ys, stop)[1] for stop in stops]
-    return JointTrajectoryRows(system, joint_range, max(stops, default=0)).sets(ys, stops)
+    return JointTrajectoryRows(system, joint_range, max(stops, default=0))._checked_sets(system, ys, stops)
 
 
 class JointTrajectoryRows:
@@ -200,6 +200,11 @@ class JointTrajectoryRows:
         stops = [_check(system, self.joint_range, ys, stop)[1] for stop in stops]
         if max(stops, default=0) > self.last:
             raise ValueError(f"the rows are prepared up to k = {self.last}, got stops {stops}")
+        return self._checked_sets(system, ys, stops)
+
+    def _checked_sets(self, system, ys: np.ndarray, stops: list[int]) -> list[ConvexSet]:
+        """`sets` on the system and measurements past the door (`measured`) and stops already
+        checked (k ≤ last)."""
         if self._rows is None:
             return [_lazy(system, self.joint_range, ys, k) for k in stops]
         return self._rows.sets(ys, stops)
