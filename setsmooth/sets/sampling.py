@@ -238,7 +238,7 @@ class _CZChords:
 
     def __init__(self, cz, program_chord):
         n, ng = cz.G.shape
-        self.n, self.c, self.b = n, np.asarray(cz.c), np.asarray(cz.b)
+        self.c, self.b = np.asarray(cz.c), np.asarray(cz.b)
         self.h = np.append(cz.h, np.inf)
         column = np.concatenate([np.ones(n), np.zeros(cz.nc)])[:, None]  # −d's place, stored entries
         matrix = mx.hstack([mx.vstack([cz.G, cz.A]), column])  # sparse where Z is
