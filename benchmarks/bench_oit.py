@@ -13,8 +13,9 @@ same every step and whose right-hand side b is new, solved per step by
              weak-duality certificate from its row duals; with the mean simplex pivots per LP.
 
 Part 3 (``--formulations``): why nothing else came near: the kept models' pivots against the same
-LPs with the n free columns eliminated exactly (QR of their block; denser), and how often a
-direction's optimal basis repeats along time (what a basis cache would need).
+LPs with the n free columns eliminated exactly (QR of their block; denser), and with the measurement
+noises' columns (one entry each, not in G) folded into range rows b ± |a| h (half the columns), and
+how often a direction's optimal basis repeats along time (what a basis cache would need).
 
 Usage: python benchmarks/bench_oit.py [--runs 3] [--steps 30] [--hull-methods] [--formulations]
 """
@@ -103,9 +104,30 @@ def _windows(n: int, steps: int):
     return window, [window.data(ys, k, np.zeros(n), np.full(n, np.inf)) for k in range(3, steps + 4)]
 
 
+class _RangeModels(highs.DirectionModels):
+    """`highs.DirectionModels`, whose `solve` also takes row bounds lower ≤ Aξ ≤ upper in place of
+    Aξ = b (``upper`` given): the same models, re-solved from their last bases through `highs.ladder`."""
+
+    def solve(self, j: int, lower: np.ndarray, h: np.ndarray, upper: np.ndarray | None = None) -> None:
+        if upper is None:
+            super().solve(j, lower, h)
+            return
+        m, p = self.A.shape
+        if self.models is None:
+            cols = np.where(self.free, -np.inf, -h)
+            self.models = [highs.lp_model(self.A, lower, upper, cols, -cols) for _ in self.Q]
+            for model, q in zip(self.models, self.Q):
+                model.changeColsCost(p, np.arange(p, dtype=np.int32), q)
+        model = self.models[j]
+        model.changeRowsBounds(m, self.rows, lower, upper)
+        if self.fin.size:
+            model.changeColsBounds(self.fin.size, self.fin, -h[self.fin], h[self.fin])
+        highs.ladder(model, highs.SIMPLEX_TOLERANCES)
+
+
 def formulations(steps: int) -> None:
-    print(f"\nOIT-CZ window LPs, {steps} steps: kept models against the free columns eliminated "
-          "(CPU ms per step in HiGHS, pivots per LP), and repeated optimal bases")
+    print(f"\nOIT-CZ window LPs, {steps} steps: kept models against the free columns eliminated and the "
+          "noise columns as range rows (CPU ms per step in HiGHS, pivots per LP), and repeated optimal bases")
     for n in DIMENSIONS:
         window, data = _windows(n, steps)
         A = window.A.toarray() if sp.issparse(window.A) else np.asarray(window.A)
@@ -116,17 +138,24 @@ def formulations(steps: int) -> None:
         A_red = Q2.T @ A[:, R]
         objectives = -(np.vstack([np.eye(n), -np.eye(n)]) @ np.asarray(window.G))
         reduced = objectives[:, R] - (A[:, R].T @ (Q1 @ np.linalg.solve(Rt.T, objectives[:, F].T))).T
-        forms = {"kept": (sp.csc_matrix(A), objectives, lambda b: b, free),
-                 "eliminated": (sp.csc_matrix(A_red), reduced, lambda b: Q2.T @ b, np.zeros(R.size, bool))}
+        # Columns with one entry and no generator (the noises v_j of the measurement rows) as range rows.
+        single = np.flatnonzero((np.count_nonzero(A, axis=0) == 1) & ~np.any(window.G, axis=0) & ~free)
+        rows_of, others = np.argmax(A[:, single] != 0, axis=0), np.setdiff1d(np.arange(A.shape[1]), single)
+        spread = lambda h: np.bincount(rows_of, np.abs(A[rows_of, single]) * h[single], A.shape[0])  # noqa: E731
+        forms = {"kept": (sp.csc_matrix(A), objectives, free, lambda b, h: (b, None, h)),
+                 "eliminated": (sp.csc_matrix(A_red), reduced, np.zeros(R.size, bool),
+                                lambda b, h: (Q2.T @ b, None, h[R])),
+                 "range rows": (sp.csc_matrix(A[:, others]), objectives[:, others], free[others],
+                                lambda b, h: (b - spread(h), b + spread(h), h[others]))}
         line = [f"n = {n}:"]
-        for name, (M, costs, rhs, free_cols) in forms.items():
-            models = highs.DirectionModels(M, costs, free_cols)
+        for name, (M, costs, free_cols, program) in forms.items():
+            models = _RangeModels(M, costs, free_cols)
             seconds, pivots, seen, repeats = 0.0, 0, [set() for _ in costs], 0
             for _, b, h in data:
-                hh = h if name == "kept" else h[R]
+                lower, upper, hh = program(b, h)
                 for j in range(len(costs)):
                     t = time.process_time()
-                    models.solve(j, rhs(b), hh)
+                    models.solve(j, lower, hh, upper)
                     seconds += time.process_time() - t
                     model = models.models[j]
                     pivots += model.getInfo().simplex_iteration_count
