@@ -141,7 +141,10 @@ def formulations(steps: int) -> None:
         # Columns with one entry and no generator (the noises v_j of the measurement rows) as range rows.
         single = np.flatnonzero((np.count_nonzero(A, axis=0) == 1) & ~np.any(window.G, axis=0) & ~free)
         rows_of, others = np.argmax(A[:, single] != 0, axis=0), np.setdiff1d(np.arange(A.shape[1]), single)
-        spread = lambda h: np.bincount(rows_of, np.abs(A[rows_of, single]) * h[single], A.shape[0])  # noqa: E731
+
+        def spread(h: np.ndarray) -> np.ndarray:  # Σ |a| h of each row's noise columns
+            return np.bincount(rows_of, np.abs(A[rows_of, single]) * h[single], A.shape[0])
+
         forms = {"kept": (sp.csc_matrix(A), objectives, free, lambda b, h: (b, None, h)),
                  "eliminated": (sp.csc_matrix(A_red), reduced, np.zeros(R.size, bool),
                                 lambda b, h: (Q2.T @ b, None, h[R])),
